@@ -1,0 +1,47 @@
+#pragma once
+// Chessboard corner detection with the board frame of SPEC section 2: corner 0 is always the same
+// physical corner (next to a black corner square), X along `cols`, Z into the board, at any roll.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/target.h"
+
+namespace slamcmp {
+
+struct ChessboardDetectorOptions {
+  bool fast_check = true;            // OpenCV's quick rejection of frames without a board
+  double refine_window_fraction = 0.4;  // sub-pixel window side / square side in pixels (< 0.5)
+  int max_refine_half_window = 11;   // pixels
+  template <class V>
+  void visit(V& v) {
+    v("fast_check", fast_check, "reject board-less frames quickly (CALIB_CB_FAST_CHECK)");
+    v("refine_window_fraction", refine_window_fraction,
+      "sub-pixel window side as a fraction of the square side in pixels, under 0.5");
+    v("max_refine_half_window", max_refine_half_window, "pixels");
+  }
+  void check() const;
+};
+
+// Full search: finds, orders and refines the inner corners (distorted pixels, OpenCV row-major
+// order: index j * cols + i). Returns false when the board is not found.
+bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& target,
+                      std::vector<cv::Point2f>* uv_distorted,
+                      const ChessboardDetectorOptions& options = {});
+
+// Puts corners (a cols x rows grid in any of the detector's orders) into SPEC section 2's order by
+// the handedness of the grid in the image and the colour of the corner squares. Returns false if the
+// square colours cannot be told apart (the grid is not a chessboard).
+bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
+                            std::vector<cv::Point2f>& uv);
+
+// Sub-pixel refinement with a window under half a square (estimated from the corner spacing).
+void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
+                             std::vector<cv::Point2f>& uv,
+                             const ChessboardDetectorOptions& options = {});
+
+// Smallest distance between neighbouring corners of the grid, in pixels.
+double minCornerSpacing(const ChessboardTarget& target, const std::vector<cv::Point2f>& uv);
+
+}  // namespace slamcmp

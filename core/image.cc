@@ -1,0 +1,69 @@
+#include "core/image.h"
+
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace slamcmp {
+
+cv::Mat toGrey(const cv::Mat& image) {
+  if (image.channels() == 1 && image.depth() == CV_8U) return image;
+  cv::Mat grey;
+  if (image.channels() == 3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  else if (image.channels() == 4) cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
+  else grey = image;
+  if (grey.depth() == CV_16U) grey.convertTo(grey, CV_8U, 1.0 / 257.0);
+  else if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
+  return grey;
+}
+
+std::vector<cv::Mat> buildPyramid(const cv::Mat& grey, int levels) {
+  std::vector<cv::Mat> pyramid;
+  cv::buildPyramid(grey, pyramid, std::max(0, levels - 1));
+  return pyramid;
+}
+
+bool sampleBilinear(const cv::Mat& grey, double u, double v, double* value) {
+  const int u0 = static_cast<int>(std::floor(u));
+  const int v0 = static_cast<int>(std::floor(v));
+  if (u0 < 0 || v0 < 0 || u0 + 1 >= grey.cols || v0 + 1 >= grey.rows) return false;
+  const double a = u - u0, b = v - v0;
+  const uchar* r0 = grey.ptr<uchar>(v0) + u0;
+  const uchar* r1 = grey.ptr<uchar>(v0 + 1) + u0;
+  *value = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+  return true;
+}
+
+bool extractPatch(const cv::Mat& grey, const Vec2& centre, int size, cv::Mat* patch) {
+  CV_Assert(size % 2 == 1 && grey.type() == CV_8UC1);
+  const int half = size / 2;
+  if (centre.x() - half < 0 || centre.y() - half < 0 || centre.x() + half + 1 >= grey.cols ||
+      centre.y() + half + 1 >= grey.rows)
+    return false;
+  cv::getRectSubPix(grey, cv::Size(size, size), cv::Point2f(static_cast<float>(centre.x()),
+                                                             static_cast<float>(centre.y())),
+                    *patch, CV_32F);
+  return true;
+}
+
+double normalisedCrossCorrelation(const cv::Mat& a_in, const cv::Mat& b_in) {
+  CV_Assert(a_in.size() == b_in.size());
+  cv::Mat a, b;
+  a_in.convertTo(a, CV_64F);
+  b_in.convertTo(b, CV_64F);
+  const double n = static_cast<double>(a.total());
+  const double ma = cv::sum(a)[0] / n, mb = cv::sum(b)[0] / n;
+  a -= ma;
+  b -= mb;
+  const double saa = a.dot(a), sbb = b.dot(b);
+  if (saa <= 1e-12 || sbb <= 1e-12) return 0.0;
+  return a.dot(b) / std::sqrt(saa * sbb);
+}
+
+double patchStdDev(const cv::Mat& patch) {
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(patch, mean, stddev);
+  return stddev[0];
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,112 @@
+#include "core/run_recorder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numeric>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+TimingStats timingStats(std::vector<double> ms) {
+  TimingStats s;
+  if (ms.empty()) return s;
+  std::sort(ms.begin(), ms.end());
+  const size_t n = ms.size();
+  s.median = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  s.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
+  s.p99 = ms[std::min(n - 1, static_cast<size_t>(std::ceil(0.99 * n)) - 1)];
+  s.max = ms.back();
+  return s;
+}
+
+RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
+    : out_dir_(out_dir), backend_(backend) {
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw InputError(out_dir, "output folder cannot be created: " + ec.message());
+  const std::string traj = out_dir + "/trajectory.txt";
+  trajectory_file_.open(traj);
+  if (!trajectory_file_) throw InputError(traj, "cannot be written");
+  trajectory_file_ << "# timestamp tx ty tz qx qy qz qw (T_world_camera, " << backend << ")\n";
+  const std::string frames = out_dir + "/frames.csv";
+  frames_file_.open(frames);
+  if (!frames_file_) throw InputError(frames, "cannot be written");
+  frames_file_ << "frame,timestamp,status,ms,decode_ms,features,measured\n";
+}
+
+void RunRecorder::writeRow(const Frame& frame, TrackStatus status, double ms, double decode_ms,
+                           int features, int measured) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%d,%d\n", frame.index, frame.timestamp,
+                toString(status), ms, decode_ms, features, measured);
+  frames_file_ << buf;
+  frames_file_.flush();
+}
+
+void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, double decode_ms) {
+  ++frames_;
+  ms_.push_back(ms);
+  if (r.T_world_camera) {
+    trajectory_.push_back({frame.timestamp, *r.T_world_camera});
+    trajectory_file_ << formatTumLine(trajectory_.back()) << '\n';
+    trajectory_file_.flush();
+  } else {
+    ++lost_;
+    if (!first_lost_frame_) first_lost_frame_ = frame.index;
+    ++lost_reasons_[r.reason.empty() ? std::string(toString(r.status)) : r.reason];
+  }
+  writeRow(frame, r.T_world_camera ? r.status : (r.status == TrackStatus::Initialising
+                                                     ? TrackStatus::Initialising
+                                                     : TrackStatus::Lost),
+           ms, decode_ms, r.features, r.measured);
+}
+
+void RunRecorder::recordUndecodable(const Frame& frame, double decode_ms) {
+  ++frames_;
+  ++lost_;
+  if (!first_lost_frame_) first_lost_frame_ = frame.index;
+  ++lost_reasons_["image could not be decoded"];
+  writeRow(frame, TrackStatus::Lost, 0.0, decode_ms, 0, 0);
+}
+
+nlohmann::json RunRecorder::summary() const {
+  const TimingStats t = timingStats(ms_);
+  nlohmann::json j;
+  j["backend"] = backend_;
+  j["frames"] = frames_;
+  j["tracked"] = tracked();
+  j["lost"] = lost_;
+  j["first_lost_frame"] = first_lost_frame_ ? nlohmann::json(*first_lost_frame_) : nlohmann::json(nullptr);
+  j["ms_per_frame"] = {{"median", t.median}, {"mean", t.mean}, {"p99", t.p99}, {"max", t.max}};
+  j["lost_reasons"] = lost_reasons_;
+  return j;
+}
+
+void RunRecorder::writeSummary(const nlohmann::json& extra) const {
+  nlohmann::json j = summary();
+  j.update(extra);
+  const std::string path = out_dir_ + "/summary.json";
+  std::ofstream out(path);
+  if (!out) throw InputError(path, "cannot be written");
+  out << j.dump(2) << '\n';
+}
+
+void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, "cannot be written");
+  out << "ply\nformat ascii 1.0\ncomment slamcmp map, world (board) frame, metres\n"
+      << "element vertex " << points.size() << "\n"
+      << "property float x\nproperty float y\nproperty float z\n"
+      << "property int id\nproperty int observations\nproperty float sigma\nend_header\n";
+  char buf[160];
+  for (const auto& p : points) {
+    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6f\n", p.p_world.x(), p.p_world.y(),
+                  p.p_world.z(), p.id, p.observations, p.sigma);
+    out << buf;
+  }
+}
+
+}  // namespace slamcmp

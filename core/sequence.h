@@ -1,0 +1,60 @@
+#pragma once
+// Image sequences: a TUM-style folder (rgb.txt), a plain folder of images, a video file, or an
+// EuRoC camera folder; with the camera, target and ground truth found beside them (SPEC section 3).
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/target.h"
+#include "core/trajectory.h"
+
+namespace slamcmp {
+
+struct Frame {
+  int index = 0;         // 0-based position in the sequence
+  double timestamp = 0;  // seconds
+  cv::Mat grey;          // CV_8UC1; empty when the frame could not be decoded
+  std::string source;    // the image file, or "video frame N", for messages
+};
+
+// Sequential access to the frames; implementations decode on demand.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  // Number of frames, or -1 when the container does not say (some videos).
+  virtual int size() const = 0;
+  // The next frame, false at the end. A frame whose image cannot be decoded is returned with an
+  // empty `grey` (the caller skips and reports it); an image of another size than the sequence's
+  // throws InputError.
+  virtual bool next(Frame* frame) = 0;
+};
+
+struct Sequence {
+  std::string path;  // what the user named
+  std::string name;  // short name for output folders
+  std::string kind;  // "tum", "images", "video", "euroc"
+  cv::Size image_size;
+  std::unique_ptr<FrameSource> frames;
+  std::optional<CameraModel> camera;        // camera.yaml, or --camera
+  std::optional<ChessboardTarget> target;   // target.yaml, or --target
+  std::optional<Trajectory> groundtruth;    // groundtruth.txt (EuRoC: body poses moved to cam0)
+  std::string camera_path, target_path, groundtruth_path;  // where they came from ("" if none)
+};
+
+struct SequenceOpenOptions {
+  std::string camera_path;  // overrides camera.yaml beside the sequence
+  std::string target_path;  // overrides target.yaml beside the sequence
+  double images_fps = 30.0;  // timestamps for a plain image folder (frame index / fps)
+};
+
+// Throws InputError for anything missing or malformed; reads the first frame to learn (and check)
+// the image size.
+Sequence openSequence(const std::string& path, const SequenceOpenOptions& options = {});
+
+// Grey 8-bit image from any image OpenCV reads (colour, grey, 16-bit); empty if it cannot.
+cv::Mat readGreyImage(const std::string& path);
+
+}  // namespace slamcmp

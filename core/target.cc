@@ -1,0 +1,63 @@
+#include "core/target.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/yaml.h"
+
+namespace slamcmp {
+
+std::vector<Vec3> ChessboardTarget::cornersWorld() const {
+  std::vector<Vec3> out;
+  out.reserve(numCorners());
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < cols; ++i) out.push_back(cornerWorld(i, j));
+  return out;
+}
+
+std::vector<Vec3> ChessboardTarget::outerCornersWorld() const {
+  return {cornerWorld(0, 0), cornerWorld(cols - 1, 0), cornerWorld(cols - 1, rows - 1),
+          cornerWorld(0, rows - 1)};
+}
+
+void ChessboardTarget::check(const std::string& where) const {
+  if (cols < 2 || rows < 2)
+    throw InputError(where, "a chessboard needs at least 2x2 inner corners, got " +
+                                std::to_string(cols) + "x" + std::to_string(rows));
+  if (cols % 2 == rows % 2)
+    throw InputError(where, "inner corner counts " + std::to_string(cols) + "x" +
+                                std::to_string(rows) +
+                                " are both " + (cols % 2 ? "odd" : "even") +
+                                ": exactly one must be odd, or the board's orientation is ambiguous");
+  if (!(square_size > 0) || !std::isfinite(square_size))
+    throw InputError(where, "square_size must be positive");
+}
+
+ChessboardTarget readTargetYaml(const std::string& path) {
+  YamlFile file(path);
+  if (file.has("type")) {
+    const std::string type = file.getString("type");
+    if (type != "chessboard")
+      throw InputError(path + ": type", "only 'chessboard' is supported, got '" + type + "'");
+  }
+  ChessboardTarget t;
+  t.cols = file.getInt("inner_corners_cols");
+  t.rows = file.getInt("inner_corners_rows");
+  t.square_size = file.getDouble("square_size");
+  t.check(path);
+  return t;
+}
+
+void writeTargetYaml(const std::string& path, const ChessboardTarget& target) {
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::WRITE);
+  } catch (const cv::Exception&) {
+  }
+  if (!fs.isOpened()) throw InputError(path, "cannot be written");
+  fs << "type" << "chessboard";
+  fs << "inner_corners_cols" << target.cols << "inner_corners_rows" << target.rows;
+  fs << "square_size" << target.square_size;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,62 @@
+#pragma once
+// The one interface both back-ends implement (STYLE: data flows one way).
+//   Sequence -> Frame -> Tracker::track -> FrameResult -> RunRecorder -> eval
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/sequence.h"
+#include "core/target.h"
+
+namespace slamcmp {
+
+enum class TrackStatus { Board, TwoView, Ekf, Initialising, Lost };
+const char* toString(TrackStatus status);  // "board", "two_view", "ekf", "initialising", "lost"
+
+struct FrameResult {
+  TrackStatus status = TrackStatus::Lost;
+  std::optional<SE3> T_world_camera;  // empty when lost or initialising: never a made-up pose
+  int features = 0;                   // features the back-end holds (tracked or in the map)
+  int measured = 0;                   // features measured in this frame
+  std::string reason;                 // why the frame is lost or degraded; "" when all is well
+};
+
+struct MapPoint {
+  int id = 0;
+  Vec3 p_world;
+  int observations = 0;  // frames the feature was measured in
+  double sigma = -1;     // position standard deviation in metres (EKF); -1 if not known
+};
+
+enum class InitSource { Board, GroundTruth, Manual };
+
+// Everything a back-end gets; it reads no file and parses no command line itself.
+struct TrackerContext {
+  std::optional<CameraModel> camera;       // none: the back-end self-calibrates or refuses
+  std::optional<ChessboardTarget> target;  // the board that defines the world frame
+  cv::FileNode options;                    // the back-end's section of --config (may be empty)
+  std::string options_source = "options";  // for messages, e.g. "run.yaml: cslam"
+  std::string mode;                        // back-end specific ("combined", ...); "" = default
+  InitSource init = InitSource::Board;
+  std::optional<SE3> T_world_camera_init;  // for GroundTruth and Manual initialisation
+  cv::Size image_size;
+};
+
+class Tracker {
+ public:
+  virtual ~Tracker() = default;
+  virtual std::string name() const = 0;
+  // One call per frame, in order. frame.grey is CV_8UC1 and never empty.
+  virtual FrameResult track(const Frame& frame) = 0;
+  // The map as it stands (world frame).
+  virtual std::vector<MapPoint> mapPoints() const { return {}; }
+  // The options in force, recorded in summary.json.
+  virtual nlohmann::json options() const { return nlohmann::json::object(); }
+};
+
+}  // namespace slamcmp

@@ -1,0 +1,192 @@
+#include "core/trajectory.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+bool parseNumbers(const std::string& line, std::vector<double>* out) {
+  out->clear();
+  const char* p = line.c_str();
+  while (*p) {
+    while (*p == ' ' || *p == '\t' || *p == ',' || *p == '\r') ++p;
+    if (!*p) break;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(p, &end);
+    if (end == p) return false;
+    if (*end && *end != ' ' && *end != '\t' && *end != ',' && *end != '\r') return false;
+    out->push_back(v);
+    p = end;
+  }
+  return true;
+}
+
+namespace {
+
+bool isCommentOrBlank(const std::string& line) {
+  for (char c : line) {
+    if (c == '#' || c == '%') return true;
+    if (c != ' ' && c != '\t' && c != '\r') return false;
+  }
+  return true;
+}
+
+std::string lowerExtension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Reads data lines as numbers; calls f(numbers, line_number) for each.
+template <class F>
+void forEachDataLine(const std::string& path, F&& f) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::string line;
+  std::vector<double> v;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (isCommentOrBlank(line)) continue;
+    if (!parseNumbers(line, &v)) throw InputError(atLine(path, line_number), "a field is not a number");
+    for (double x : v)
+      if (!std::isfinite(x)) throw InputError(atLine(path, line_number), "NaN or infinite value");
+    f(v, line_number);
+  }
+}
+
+Quat checkedQuat(double w, double x, double y, double z, const std::string& where) {
+  Quat q(w, x, y, z);
+  const double n = q.norm();
+  if (std::abs(n - 1.0) > 0.05)
+    throw InputError(where, "quaternion norm is " + std::to_string(n) + ", not 1");
+  return q.normalized();
+}
+
+void checkIncreasing(const Trajectory& t, const std::string& where) {
+  if (t.size() >= 2 && !(t.back().timestamp > t[t.size() - 2].timestamp))
+    throw InputError(where, t.back().timestamp == t[t.size() - 2].timestamp
+                                ? "duplicate timestamp"
+                                : "timestamp goes back in time");
+}
+
+TrajectoryFormat detectFormat(const std::string& path) {
+  if (lowerExtension(path) == "csv") return TrajectoryFormat::Euroc;
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::string line;
+  std::vector<double> v;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (isCommentOrBlank(line)) continue;
+    if (!parseNumbers(line, &v)) throw InputError(atLine(path, n), "a field is not a number");
+    if (v.size() == 8) return TrajectoryFormat::Tum;
+    if (v.size() == 12) return TrajectoryFormat::Kitti;
+    throw InputError(atLine(path, n), "has " + std::to_string(v.size()) +
+                                          " fields: expected 8 (TUM) or 12 (KITTI)");
+  }
+  throw InputError(path, "holds no pose");
+}
+
+std::vector<double> readKittiTimes(const std::string& path) {
+  std::vector<double> times;
+  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
+    if (v.size() != 1) throw InputError(atLine(path, n), "expected one timestamp");
+    if (!times.empty() && !(v[0] > times.back()))
+      throw InputError(atLine(path, n), "timestamp does not increase");
+    times.push_back(v[0]);
+  });
+  return times;
+}
+
+}  // namespace
+
+TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
+  if (name == "auto") return TrajectoryFormat::Auto;
+  if (name == "tum") return TrajectoryFormat::Tum;
+  if (name == "euroc") return TrajectoryFormat::Euroc;
+  if (name == "kitti") return TrajectoryFormat::Kitti;
+  throw InputError("--format", "unknown trajectory format '" + name + "' (auto, tum, euroc, kitti)");
+}
+
+Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
+                          const std::string& kitti_times_path) {
+  if (format == TrajectoryFormat::Auto) format = detectFormat(path);
+  Trajectory out;
+  std::vector<double> times;
+  if (format == TrajectoryFormat::Kitti && !kitti_times_path.empty())
+    times = readKittiTimes(kitti_times_path);
+
+  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
+    const std::string where = atLine(path, n);
+    StampedPose p;
+    switch (format) {
+      case TrajectoryFormat::Tum:
+        if (v.size() != 8)
+          throw InputError(where, "has " + std::to_string(v.size()) +
+                                      " fields: TUM needs 8 (timestamp tx ty tz qx qy qz qw)");
+        p.timestamp = v[0];
+        p.T_world_camera = SE3(checkedQuat(v[7], v[4], v[5], v[6], where), Vec3(v[1], v[2], v[3]));
+        break;
+      case TrajectoryFormat::Euroc:
+        if (v.size() < 8)
+          throw InputError(where, "has " + std::to_string(v.size()) +
+                                      " fields: EuRoC needs at least 8 (ns px py pz qw qx qy qz)");
+        p.timestamp = v[0] * 1e-9;
+        p.T_world_camera = SE3(checkedQuat(v[4], v[5], v[6], v[7], where), Vec3(v[1], v[2], v[3]));
+        break;
+      case TrajectoryFormat::Kitti: {
+        if (v.size() != 12)
+          throw InputError(where, "has " + std::to_string(v.size()) + " fields: KITTI needs 12 (3x4)");
+        Mat3 R;
+        R << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
+        if ((R.transpose() * R - Mat3::Identity()).norm() > 1e-2 || R.determinant() < 0)
+          throw InputError(where, "the 3x3 part is not a rotation");
+        const size_t index = out.size();
+        if (!times.empty() && index >= times.size())
+          throw InputError(kitti_times_path, "has fewer timestamps than " + path + " has poses");
+        p.timestamp = times.empty() ? static_cast<double>(index) : times[index];
+        p.T_world_camera = SE3(nearestRotation(R), Vec3(v[3], v[7], v[11]));
+        break;
+      }
+      case TrajectoryFormat::Auto:
+        break;
+    }
+    out.push_back(p);
+    checkIncreasing(out, where);
+  });
+  if (out.empty()) throw InputError(path, "holds no pose");
+  if (!times.empty() && times.size() != out.size())
+    throw InputError(kitti_times_path, "has " + std::to_string(times.size()) + " timestamps but " +
+                                           path + " has " + std::to_string(out.size()) + " poses");
+  return out;
+}
+
+std::string formatTumLine(const StampedPose& p) {
+  const Quat q = p.T_world_camera.quat();
+  const Vec3& t = p.T_world_camera.t();
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", p.timestamp, t.x(), t.y(),
+                t.z(), q.x(), q.y(), q.z(), q.w());
+  return buf;
+}
+
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, "cannot be written");
+  out << "# timestamp tx ty tz qx qy qz qw (T_world_camera)\n";
+  for (const auto& p : trajectory) out << formatTumLine(p) << '\n';
+  if (!out) throw InputError(path, "write failed");
+}
+
+}  // namespace slamcmp

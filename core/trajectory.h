@@ -1,0 +1,37 @@
+#pragma once
+// Trajectories: timestamped T_world_camera poses. Read in TUM, EuRoC and KITTI formats, written
+// in TUM format (what evo and the TUM tools read).
+#include <string>
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace slamcmp {
+
+struct StampedPose {
+  double timestamp = 0;  // seconds
+  SE3 T_world_camera;
+};
+using Trajectory = std::vector<StampedPose>;
+
+enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
+
+// Auto: ".csv" is EuRoC; otherwise the field count of the first data line decides (8 TUM, 12 KITTI).
+// KITTI files carry no time: `kitti_times_path` gives one per line, else frame indices are used.
+// Throws InputError naming the file and line for anything malformed: a wrong field count, a value
+// that is not a finite number, a quaternion or rotation far from unit, timestamps that do not
+// increase, or a file without a single pose.
+Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto,
+                          const std::string& kitti_times_path = "");
+TrajectoryFormat parseTrajectoryFormat(const std::string& name);  // "auto", "tum", "euroc", "kitti"
+
+// TUM: "timestamp tx ty tz qx qy qz qw" per line, with a header comment.
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);
+// One TUM line (no newline); shared by the writer and the streaming run recorder.
+std::string formatTumLine(const StampedPose& pose);
+
+// Splits a text line into numbers at spaces, tabs or commas. Returns false if a field is not a
+// number (NaN and infinity are reported by the callers, which know the line).
+bool parseNumbers(const std::string& line, std::vector<double>* out);
+
+}  // namespace slamcmp

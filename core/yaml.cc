@@ -1,0 +1,101 @@
+#include "core/yaml.h"
+
+#include <cmath>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+YamlFile::YamlFile(const std::string& path) : path_(path) {
+  std::ifstream probe(path);
+  if (!probe) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::string first;
+  std::getline(probe, first);
+  if (!probe && first.empty()) throw InputError(path, "is empty");
+  try {
+    fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
+  } catch (const cv::Exception& e) {
+    // OpenCV's message spans several lines; keep its last meaningful part.
+    std::string msg = e.err.empty() ? e.what() : e.err;
+    for (char& c : msg)
+      if (c == '\n') c = ' ';
+    throw InputError(path, "is not valid YAML: " + msg);
+  }
+  if (!fs_.isOpened()) throw InputError(path, "is not valid YAML");
+}
+
+bool YamlFile::has(const std::string& key) const { return !fs_[key].empty(); }
+
+cv::FileNode YamlFile::required(const std::string& key) const {
+  cv::FileNode n = fs_[key];
+  if (n.empty()) throw InputError(path_ + ": " + key, "missing field");
+  return n;
+}
+
+int YamlFile::getInt(const std::string& key) const { return readInt(required(key), path_ + ": " + key); }
+
+double YamlFile::getDouble(const std::string& key) const {
+  return readDouble(required(key), path_ + ": " + key);
+}
+
+std::string YamlFile::getString(const std::string& key) const {
+  return readString(required(key), path_ + ": " + key);
+}
+
+cv::Mat YamlFile::getMatrix(const std::string& key) const {
+  const cv::FileNode n = required(key);
+  const std::string where = path_ + ": " + key;
+  cv::Mat m;
+  try {
+    if (n.isMap()) {
+      n >> m;
+    } else if (n.isSeq()) {  // a plain list [a, b, c] is read as a row vector
+      std::vector<double> v;
+      for (const auto& e : n) v.push_back(readDouble(e, where));
+      m = cv::Mat(v, true).reshape(1, 1);
+    }
+  } catch (const cv::Exception&) {
+    throw InputError(where, "is not a valid matrix (rows, cols, dt, data)");
+  }
+  if (m.empty()) throw InputError(where, "is not a matrix");
+  m.convertTo(m, CV_64F);
+  if (!cv::checkRange(m)) throw InputError(where, "has a NaN or infinite value");
+  return m;
+}
+
+int readInt(const cv::FileNode& node, const std::string& where) {
+  if (node.isInt()) return static_cast<int>(node);
+  if (node.isReal()) {
+    const double v = static_cast<double>(node);
+    if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 2e9) return static_cast<int>(v);
+  }
+  throw InputError(where, "must be an integer");
+}
+
+double readDouble(const cv::FileNode& node, const std::string& where) {
+  if (!node.isInt() && !node.isReal()) throw InputError(where, "must be a number");
+  const double v = static_cast<double>(node);
+  if (!std::isfinite(v)) throw InputError(where, "must be finite");
+  return v;
+}
+
+bool readBool(const cv::FileNode& node, const std::string& where) {
+  if (node.isInt()) {
+    const int v = static_cast<int>(node);
+    if (v == 0 || v == 1) return v == 1;
+  }
+  if (node.isString()) {
+    const std::string s = static_cast<std::string>(node);
+    if (s == "true" || s == "True") return true;
+    if (s == "false" || s == "False") return false;
+  }
+  throw InputError(where, "must be true or false");
+}
+
+std::string readString(const cv::FileNode& node, const std::string& where) {
+  if (!node.isString()) throw InputError(where, "must be a string");
+  return static_cast<std::string>(node);
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,10 @@
+#pragma once
+// The slamcmp subcommands (SPEC section 4). Each registers its options and its callback on the app;
+// one file per subcommand (cmd_<name>.cc).
+#include <CLI/CLI.hpp>
+
+namespace slamcmp {
+
+void addSynthCommand(CLI::App& app);
+
+}  // namespace slamcmp

@@ -1,0 +1,41 @@
+// slamcmp: runs monocular SLAM back-ends side by side and scores them.
+// Exit codes: 0 done, 2 bad usage or bad input (one line on stderr), 1 internal failure.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core/utility.hpp>
+
+#include "core/error.h"
+#include "eval/commands.h"
+
+int main(int argc, char** argv) {
+  // OpenCV's own messages (e.g. from a broken image) must not interleave with ours.
+  cv::redirectError([](int, const char*, const char*, const char*, int, void*) { return 0; });
+  CLI::App app{
+      "slamcmp: runs two monocular SLAM methods (cslam: calibration-integrated SLAM, monoslam: "
+      "MonoSLAM EKF) on the same image sequences and scores them against ground truth."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "slamcmp 0.1");
+  slamcmp::addSynthCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
+    return 2;
+  } catch (const slamcmp::InputError& e) {
+    std::cerr << "slamcmp: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "slamcmp: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,47 @@
+#include "tests/test_util.h"
+
+#include <fstream>
+#include <random>
+
+namespace slamcmp::test {
+
+TempDir::TempDir() {
+  std::random_device rd;
+  const auto base = std::filesystem::temp_directory_path();
+  for (;;) {
+    const auto p = base / ("slamcmp-test-" + std::to_string(rd()));
+    if (std::filesystem::create_directory(p)) {
+      path_ = p.string();
+      break;
+    }
+  }
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                  const Eigen::VectorXd& x, const Eigen::MatrixXd& J, double tol,
+                                  double step) {
+  const Eigen::VectorXd f0 = f(x);
+  ASSERT_EQ(J.rows(), f0.size());
+  ASSERT_EQ(J.cols(), x.size());
+  for (int c = 0; c < x.size(); ++c) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[c] += step;
+    xm[c] -= step;
+    const Eigen::VectorXd column = (f(xp) - f(xm)) / (2 * step);
+    for (int r = 0; r < f0.size(); ++r)
+      EXPECT_NEAR(J(r, c), column[r], tol * std::max(1.0, std::abs(column[r])))
+          << "d f[" << r << "] / d x[" << c << "]";
+  }
+}
+
+}  // namespace slamcmp::test

@@ -1,0 +1,44 @@
+#pragma once
+// Helpers shared by the test suites.
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+namespace slamcmp::test {
+
+// The real data beside the project (../shared/datasets), or "" when absent (a user's clone).
+inline std::string sharedDatasets() {
+  const std::filesystem::path p = std::filesystem::path(SLAMCMP_SOURCE_DIR) / ".." / "shared" / "datasets";
+  return std::filesystem::exists(p) ? p.lexically_normal().string() : std::string();
+}
+
+// Use as: SLAMCMP_REQUIRE_SHARED(dir); then dir + "/vamr_checkerboard".
+#define SLAMCMP_REQUIRE_SHARED(var)                                                        \
+  const std::string var = ::slamcmp::test::sharedDatasets();                               \
+  if (var.empty()) GTEST_SKIP() << "../shared/datasets is absent (a fresh clone): skipped"
+
+// A fresh empty temporary folder for one test, removed with the object.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::string& path() const { return path_; }
+  std::string file(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
+
+// Writes `text` to `path`.
+void writeText(const std::string& path, const std::string& text);
+
+// Central differences of f: R^n -> R^m at x, compared with the analytic J entry by entry:
+// |J - J_numeric| <= tol * max(1, |J_numeric|).
+void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                  const Eigen::VectorXd& x, const Eigen::MatrixXd& J,
+                                  double tol = 1e-6, double step = 1e-6);
+
+}  // namespace slamcmp::test
