@@ -85,13 +85,15 @@ nlohmann::json RunRecorder::summary() const {
   return j;
 }
 
-void RunRecorder::writeSummary(const nlohmann::json& extra) const {
+nlohmann::json RunRecorder::writeSummary(const nlohmann::json& extra) const {
   nlohmann::json j = summary();
   j.update(extra);
   const std::string path = out_dir_ + "/summary.json";
   std::ofstream out(path);
   if (!out) throw InputError(path, "cannot be written");
   out << j.dump(2) << '\n';
+  if (!out) throw InputError(path, "write failed");
+  return j;
 }
 
 void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {

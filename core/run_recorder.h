@@ -31,7 +31,8 @@ class RunRecorder {
 
   // summary.json: the SPEC fields, plus `extra` merged in (options, metrics, ...).
   nlohmann::json summary() const;
-  void writeSummary(const nlohmann::json& extra) const;
+  // Writes summary() with `extra` merged in to summary.json and returns what it wrote.
+  nlohmann::json writeSummary(const nlohmann::json& extra) const;
 
   const std::string& outDir() const { return out_dir_; }
   const Trajectory& trajectory() const { return trajectory_; }

@@ -6,5 +6,6 @@
 namespace slamcmp {
 
 void addSynthCommand(CLI::App& app);
+void addRunCommand(CLI::App& app);
 
 }  // namespace slamcmp

@@ -1,6 +1,10 @@
 #include "tests/test_util.h"
 
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
+
+#include <sys/wait.h>
 #include <random>
 
 namespace slamcmp::test {
@@ -20,6 +24,32 @@ TempDir::TempDir() {
 TempDir::~TempDir() {
   std::error_code ec;
   std::filesystem::remove_all(path_, ec);
+}
+
+namespace {
+std::string readAll(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+CommandResult runSlamcmp(const std::string& args) {
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  CommandResult r;
+  if (!bin) {
+    ADD_FAILURE() << "SLAMCMP_BIN is not set (run the tests through ctest)";
+    return r;
+  }
+  TempDir tmp;
+  const std::string cmd = std::string(bin) + " " + args + " > " + tmp.file("out") + " 2> " +
+                          tmp.file("err") + " < /dev/null";
+  const int status = std::system(cmd.c_str());
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readAll(tmp.file("out"));
+  r.err = readAll(tmp.file("err"));
+  return r;
 }
 
 void writeText(const std::string& path, const std::string& text) {

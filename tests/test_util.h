@@ -32,6 +32,15 @@ class TempDir {
   std::string path_;
 };
 
+// What running the slamcmp binary printed and returned.
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+// Runs the slamcmp binary (from ctest's SLAMCMP_BIN) with `args` (a shell-quoted string).
+CommandResult runSlamcmp(const std::string& args);
+
 // Writes `text` to `path`.
 void writeText(const std::string& path, const std::string& text);
 

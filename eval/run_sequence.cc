@@ -1,0 +1,111 @@
+#include "eval/run_sequence.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <memory>
+
+#include "core/error.h"
+#include "core/frame_prefetcher.h"
+#include "core/progress.h"
+#include "core/run_recorder.h"
+#include "core/sequence.h"
+#include "core/yaml.h"
+#include "eval/tracker_factory.h"
+
+namespace slamcmp {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onInterrupt(int) { g_interrupted = true; }
+
+// TrackerContext.init from "board", "groundtruth" or "manual:FILE".
+void setInitialisation(const std::string& init, const Sequence& seq, TrackerContext* context) {
+  if (init == "board") {
+    context->init = InitSource::Board;
+  } else if (init == "groundtruth") {
+    if (!seq.groundtruth)
+      throw InputError("--init groundtruth", "sequence " + seq.path + " has no groundtruth.txt");
+    context->init = InitSource::GroundTruth;
+    context->T_world_camera_init = seq.groundtruth->front().T_world_camera;
+  } else if (init.rfind("manual:", 0) == 0) {
+    const std::string file = init.substr(7);
+    if (file.empty()) throw InputError("--init", "manual:FILE needs a file (a TUM pose line)");
+    context->init = InitSource::Manual;
+    context->T_world_camera_init = readTrajectory(file, TrajectoryFormat::Tum).front().T_world_camera;
+  } else {
+    throw InputError("--init", "must be board, groundtruth or manual:FILE, got '" + init + "'");
+  }
+}
+
+}  // namespace
+
+void installInterruptHandler() { std::signal(SIGINT, onInterrupt); }
+bool interrupted() { return g_interrupted; }
+
+std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
+                          const std::string& mode) {
+  return "runs/" + sequence_name + "-" + backend + (mode.empty() ? "" : "-" + mode);
+}
+
+nlohmann::json runSequence(const RunRequest& request) {
+  SequenceOpenOptions open_options;
+  open_options.camera_path = request.camera_path;
+  open_options.target_path = request.target_path;
+  Sequence seq = openSequence(request.sequence_path, open_options);
+
+  TrackerContext context;
+  context.camera = seq.camera;
+  context.target = seq.target;
+  context.mode = request.mode;
+  context.image_size = seq.image_size;
+  setInitialisation(request.init, seq, &context);
+  std::unique_ptr<YamlFile> config;  // must outlive the tracker: context.options points into it
+  if (!request.config_path.empty()) {
+    config = std::make_unique<YamlFile>(request.config_path);
+    context.options = config->node(request.backend);
+    context.options_source = request.config_path + ": " + request.backend;
+  }
+  std::unique_ptr<Tracker> tracker = makeTracker(request.backend, context);
+
+  const std::string out_dir =
+      request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
+  RunRecorder recorder(out_dir, tracker->name());
+  const int total = request.max_frames >= 0 && seq.frames->size() >= 0
+                        ? std::min(request.max_frames, seq.frames->size())
+                        : seq.frames->size();
+  Progress progress(request.progress ? seq.name + " " + tracker->name() : "", request.progress ? total : 0);
+
+  FramePrefetcher frames(*seq.frames, request.max_frames);
+  DecodedFrame d;
+  int decoded_ok = 0;
+  while (!interrupted() && frames.next(&d)) {
+    if (d.frame.grey.empty()) {
+      recorder.recordUndecodable(d.frame, d.decode_ms);
+      continue;
+    }
+    ++decoded_ok;
+    const auto start = std::chrono::steady_clock::now();
+    const FrameResult result = tracker->track(d.frame);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    recorder.record(d.frame, result, ms, d.decode_ms);
+    if (request.progress) progress.update(recorder.frames(), toString(result.status));
+  }
+  progress.finish();
+  if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
+  if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
+  if (!interrupted()) tracker->finish();
+
+  nlohmann::json extra;
+  extra["sequence"] = seq.path;
+  extra["mode"] = request.mode;
+  extra["init"] = request.init;
+  extra["interrupted"] = interrupted();
+  extra["options"] = tracker->options();
+  writeMapPly(out_dir + "/map.ply", tracker->mapPoints());
+  return recorder.writeSummary(extra);
+}
+
+}  // namespace slamcmp
