@@ -1,0 +1,85 @@
+#include "eval/plot.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+namespace slamcmp {
+
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
+  const int rows = (static_cast<int>(figure.panels.size()) + figure.columns - 1) / figure.columns;
+  const int height = rows * figure.panel_height_px + (figure.title.empty() ? 0 : 40);
+  std::ostringstream s;
+  s.precision(10);
+  // Data first, as inline datablocks; a blank line breaks a line at each NaN.
+  for (size_t p = 0; p < figure.panels.size(); ++p)
+    for (size_t k = 0; k < figure.panels[p].series.size(); ++k) {
+      const PlotSeries& ser = figure.panels[p].series[k];
+      s << "$d" << p << "_" << k << " << EOD\n";
+      bool gap = false;
+      for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i) {
+        if (!std::isfinite(ser.x[i]) || !std::isfinite(ser.y[i])) {
+          if (!gap) s << "\n";
+          gap = true;
+          continue;
+        }
+        gap = false;
+        s << ser.x[i] << " " << ser.y[i] << "\n";
+      }
+      s << "EOD\n";
+    }
+  s << "set terminal pngcairo enhanced size " << figure.width_px << "," << height
+    << " font 'DejaVu Sans,10' linewidth 1\n";
+  s << "set output " << quoted(png_path) << "\n";
+  s << "set grid lc rgb '#dddddd'\nset key outside right top box opaque\nset tics out nomirror\n";
+  s << "set multiplot layout " << rows << "," << figure.columns;
+  if (!figure.title.empty()) s << " title " << quoted(figure.title) << " font ',13'";
+  s << "\n";
+  for (size_t p = 0; p < figure.panels.size(); ++p) {
+    const PlotPanel& panel = figure.panels[p];
+    s << "set title " << quoted(panel.title) << "\n";
+    s << "set xlabel " << quoted(panel.xlabel) << "\nset ylabel " << quoted(panel.ylabel) << "\n";
+    s << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
+    s << (panel.log_y ? "set logscale y\n" : "unset logscale y\n");
+    if (panel.series.empty()) {
+      s << "set key off\nplot NaN notitle\nset key\n";
+      continue;
+    }
+    s << "plot ";
+    for (size_t k = 0; k < panel.series.size(); ++k) {
+      const PlotSeries& ser = panel.series[k];
+      if (k) s << ", \\\n     ";
+      s << "$d" << p << "_" << k << " using 1:2 with " << (ser.points ? "points pt 7 ps 0.4" : "lines")
+        << " lc rgb " << quoted(ser.color) << " lw " << ser.width << (ser.dashed ? " dt 2" : " dt 1")
+        << " title " << quoted(ser.label);
+    }
+    s << "\n";
+  }
+  s << "unset multiplot\nset output\n";
+  return s.str();
+}
+
+void writeFigurePng(const Figure& figure, const std::string& path) {
+  FILE* gp = popen("gnuplot > /dev/null 2>&1", "w");
+  if (!gp) throw std::runtime_error("cannot start gnuplot (install gnuplot-nox)");
+  const std::string script = gnuplotScript(figure, path);
+  std::fwrite(script.data(), 1, script.size(), gp);
+  const int status = pclose(gp);
+  if (status != 0) throw std::runtime_error("gnuplot failed writing " + path + " (is gnuplot installed?)");
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,37 @@
+#pragma once
+// Figures as PNG through gnuplot (pngcairo): axes, ticks, labels, legends, several panels.
+#include <string>
+#include <vector>
+
+namespace slamcmp {
+
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x, y;  // NaN in y breaks the line (a lost stretch)
+  std::string color = "black";  // any gnuplot colour name or "#rrggbb"
+  bool dashed = false;
+  bool points = false;  // points instead of a line
+  double width = 1.5;
+};
+
+struct PlotPanel {
+  std::string title, xlabel, ylabel;
+  std::vector<PlotSeries> series;
+  bool equal_axes = false;  // same scale on x and y (trajectory views)
+  bool log_y = false;
+};
+
+struct Figure {
+  std::string title;
+  std::vector<PlotPanel> panels;
+  int columns = 1;  // panels are laid out row by row
+  int width_px = 1100;
+  int panel_height_px = 330;
+};
+
+// Writes `figure` to `path` (PNG). Throws std::runtime_error when gnuplot is missing or fails.
+void writeFigurePng(const Figure& figure, const std::string& path);
+// The gnuplot script writeFigurePng runs (for tests and for users who want to restyle a figure).
+std::string gnuplotScript(const Figure& figure, const std::string& png_path);
+
+}  // namespace slamcmp
