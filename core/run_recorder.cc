@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/frames_csv.h"
 
 namespace slamcmp {
 
@@ -34,15 +35,12 @@ RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
   const std::string frames = out_dir + "/frames.csv";
   frames_file_.open(frames);
   if (!frames_file_) throw InputError(frames, "cannot be written");
-  frames_file_ << "frame,timestamp,status,ms,decode_ms,features,measured\n";
+  frames_file_ << framesCsvHeader() << '\n';
 }
 
 void RunRecorder::writeRow(const Frame& frame, TrackStatus status, double ms, double decode_ms,
                            int features, int measured) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%d,%d\n", frame.index, frame.timestamp,
-                toString(status), ms, decode_ms, features, measured);
-  frames_file_ << buf;
+  frames_file_ << formatFrameRow({frame.index, frame.timestamp, status, ms, decode_ms, features, measured});
   frames_file_.flush();
 }
 

@@ -11,6 +11,7 @@
 #include "core/run_recorder.h"
 #include "core/sequence.h"
 #include "core/yaml.h"
+#include "eval/run_errors.h"
 #include "eval/tracker_factory.h"
 
 namespace slamcmp {
@@ -92,6 +93,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     recorder.record(d.frame, result, ms, d.decode_ms);
     if (request.progress) progress.update(recorder.frames(), toString(result.status));
+    if (request.on_frame) request.on_frame();
   }
   progress.finish();
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
@@ -104,6 +106,16 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["init"] = request.init;
   extra["interrupted"] = interrupted();
   extra["options"] = tracker->options();
+  if (seq.groundtruth) {
+    try {
+      if (const auto errors = evaluateRun(*seq.groundtruth, recorder.trajectory())) {
+        extra["ate"] = errors->json["ate"];
+        extra["rpe"] = errors->json["rpe"];
+      }
+    } catch (const InputError& e) {  // the run is fine; only its score is impossible
+      extra["metrics_error"] = e.what();
+    }
+  }
   writeMapPly(out_dir + "/map.ply", tracker->mapPoints());
   return recorder.writeSummary(extra);
 }

@@ -1,6 +1,7 @@
 #pragma once
 // One back-end on one sequence: open, track every frame, record (SPEC section 4 outputs).
 // Shared by `slamcmp run`, `compare` and `reproduce`.
+#include <functional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,6 +19,7 @@ struct RunRequest {
   std::string mode;           // back-end mode ("" = its default)
   std::string init = "board";  // board | groundtruth | manual:FILE
   bool progress = true;       // a progress line on a terminal
+  std::function<void()> on_frame;  // called after each frame (compare's overall progress)
 };
 
 // Runs to the end of the sequence (or max_frames, or Ctrl-C: the frames done stay valid) and

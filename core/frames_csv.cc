@@ -1,0 +1,60 @@
+#include "core/frames_csv.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+const char* framesCsvHeader() { return "frame,timestamp,status,ms,decode_ms,features,measured"; }
+
+std::string formatFrameRow(const FrameRow& r) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
+                toString(r.status), r.ms, r.decode_ms, r.features, r.measured);
+  return buf;
+}
+
+TrackStatus parseTrackStatus(const std::string& s, const std::string& where) {
+  for (TrackStatus t : {TrackStatus::Board, TrackStatus::TwoView, TrackStatus::Ekf,
+                        TrackStatus::Initialising, TrackStatus::Lost})
+    if (s == toString(t)) return t;
+  throw InputError(where, "unknown status '" + s + "'");
+}
+
+std::vector<FrameRow> readFramesCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::string line;
+  if (!std::getline(in, line) || line.rfind(framesCsvHeader(), 0) != 0)
+    throw InputError(atLine(path, 1), std::string("header must be '") + framesCsvHeader() + "'");
+  std::vector<FrameRow> rows;
+  int n = 1;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty()) continue;
+    std::stringstream ss(line);
+    std::string field[7];
+    int k = 0;
+    while (k < 7 && std::getline(ss, field[k], ',')) ++k;
+    if (k != 7) throw InputError(atLine(path, n), "expected 7 comma-separated fields");
+    FrameRow r;
+    try {
+      r.frame = std::stoi(field[0]);
+      r.timestamp = std::stod(field[1]);
+      r.ms = std::stod(field[3]);
+      r.decode_ms = std::stod(field[4]);
+      r.features = std::stoi(field[5]);
+      r.measured = std::stoi(field[6]);
+    } catch (const std::exception&) {
+      throw InputError(atLine(path, n), "a field is not a number");
+    }
+    r.status = parseTrackStatus(field[2], atLine(path, n));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace slamcmp
