@@ -10,6 +10,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "core/yaml.h"
 
 namespace fs = std::filesystem;
@@ -76,8 +77,9 @@ class VideoSource : public FrameSource {
     frame->timestamp = index_ / fps_;
     frame->source = path_ + " frame " + std::to_string(index_);
     ++index_;
-    if (img.channels() == 3) cv::cvtColor(img, frame->grey, cv::COLOR_BGR2GRAY);
-    else frame->grey = img;
+    // A fresh image each frame: converting into frame->grey would overwrite, in place, the
+    // previous frame a caller still holds (e.g. for optical flow).
+    frame->grey = toGrey(img);
     return true;
   }
 
@@ -161,7 +163,7 @@ std::vector<ImageEntry> readEurocCameraList(const fs::path& cam_dir) {
       throw InputError(atLine(list, n), "timestamp '" + stamp + "' is not a number");
     std::string file = line.substr(comma + 1);
     file.erase(0, file.find_first_not_of(' '));
-    const double t = ns * 1e-9;
+    const double t = ns / 1e9;  // as the ground truth reader: the same ns give the same seconds
     if (!entries.empty() && !(t > entries.back().timestamp))
       throw InputError(atLine(list, n), "timestamps must increase");
     const fs::path image = cam_dir / "data" / file;

@@ -72,11 +72,11 @@ Quat checkedQuat(double w, double x, double y, double z, const std::string& wher
   return q.normalized();
 }
 
+// A repeated timestamp is kept, in file order, as evo keeps it: published ground truth holds a
+// few (TUM fr2_desk, evo's EuRoC V1_02 estimate).
 void checkIncreasing(const Trajectory& t, const std::string& where) {
-  if (t.size() >= 2 && !(t.back().timestamp > t[t.size() - 2].timestamp))
-    throw InputError(where, t.back().timestamp == t[t.size() - 2].timestamp
-                                ? "duplicate timestamp"
-                                : "timestamp goes back in time");
+  if (t.size() >= 2 && !(t.back().timestamp >= t[t.size() - 2].timestamp))
+    throw InputError(where, "timestamp goes back in time");
 }
 
 TrajectoryFormat detectFormat(const std::string& path) {
@@ -142,7 +142,7 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
         if (v.size() < 8)
           throw InputError(where, "has " + std::to_string(v.size()) +
                                       " fields: EuRoC needs at least 8 (ns px py pz qw qx qy qz)");
-        p.timestamp = v[0] * 1e-9;
+        p.timestamp = v[0] / 1e9;  // correctly rounded, as evo (x * 1e-9 is off by 1 ulp at times)
         p.T_world_camera = SE3(checkedQuat(v[4], v[5], v[6], v[7], where), Vec3(v[1], v[2], v[3]));
         break;
       case TrajectoryFormat::Kitti: {

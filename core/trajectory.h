@@ -19,8 +19,8 @@ enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
 // Auto: ".csv" is EuRoC; otherwise the field count of the first data line decides (8 TUM, 12 KITTI).
 // KITTI files carry no time: `kitti_times_path` gives one per line, else frame indices are used.
 // Throws InputError naming the file and line for anything malformed: a wrong field count, a value
-// that is not a finite number, a quaternion or rotation far from unit, timestamps that do not
-// increase, or a file without a single pose.
+// that is not a finite number, a quaternion or rotation far from unit, a timestamp that goes back
+// in time (a repeated one is kept, as evo keeps it), or a file without a single pose.
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto,
                           const std::string& kitti_times_path = "");
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);  // "auto", "tum", "euroc", "kitti"

@@ -1,0 +1,205 @@
+// The run outputs of SPEC section 4: trajectory.txt, frames.csv, summary.json and map.ply, read
+// back as a user (or eval) would.
+#include "core/run_recorder.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/trajectory.h"
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+std::vector<std::string> readLines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream ss(line);
+  for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+  return fields;
+}
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+Frame frameAt(int index) {
+  Frame f;
+  f.index = index;
+  f.timestamp = 10.0 + 0.1 * index;
+  return f;
+}
+
+FrameResult tracked(TrackStatus status, const SE3& T, int features, int measured) {
+  FrameResult r;
+  r.status = status;
+  r.T_world_camera = T;
+  r.features = features;
+  r.measured = measured;
+  return r;
+}
+
+FrameResult lost(const std::string& reason) {
+  FrameResult r;
+  r.status = TrackStatus::Lost;
+  r.reason = reason;
+  return r;
+}
+
+TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
+  test::TempDir dir;
+  const std::string out = dir.file("runs/seq-test");  // parents are created
+  const SE3 T0 = SE3::fromRotvec(Vec3(0.1, -0.2, 0.3), Vec3(0.5, 0.25, -1.0));
+  const SE3 T2 = SE3::fromRotvec(Vec3(0.15, -0.2, 0.3), Vec3(0.6, 0.25, -1.0));
+  {
+    RunRecorder recorder(out, "cslam");
+    recorder.record(frameAt(0), tracked(TrackStatus::Board, T0, 54, 54), 5.0, 1.5);
+    recorder.record(frameAt(1), lost("board not found"), 1.0, 1.25);
+    recorder.record(frameAt(2), tracked(TrackStatus::TwoView, T2, 120, 80), 3.0, 1.0);
+    recorder.recordUndecodable(frameAt(3), 0.5);
+    FrameResult initialising;
+    initialising.status = TrackStatus::Initialising;
+    recorder.record(frameAt(4), initialising, 4.0, 1.0);
+    EXPECT_EQ(recorder.frames(), 5);
+    EXPECT_EQ(recorder.tracked(), 2);
+    recorder.writeSummary({{"sequence", "seq"}});
+  }
+
+  // trajectory.txt: only the frames with a pose, readable as TUM.
+  const Trajectory t = readTrajectory(out + "/trajectory.txt");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_NEAR(t[0].timestamp, 10.0, 1e-9);
+  EXPECT_NEAR(t[1].timestamp, 10.2, 1e-9);
+  EXPECT_LT((t[1].T_world_camera.t() - T2.t()).norm(), 1e-9);
+  EXPECT_LT(rotationAngle(t[0].T_world_camera.R().transpose() * T0.R()), 1e-8);
+
+  // frames.csv: the SPEC header and one row a frame.
+  const auto lines = readLines(out + "/frames.csv");
+  ASSERT_EQ(lines.size(), 6u);
+  EXPECT_EQ(lines[0], "frame,timestamp,status,ms,decode_ms,features,measured");
+  const std::vector<std::string> status = {"board", "lost", "two_view", "lost", "initialising"};
+  for (int i = 0; i < 5; ++i) {
+    const auto f = splitCsv(lines[i + 1]);
+    ASSERT_EQ(f.size(), 7u) << lines[i + 1];
+    EXPECT_EQ(std::stoi(f[0]), i);
+    EXPECT_NEAR(std::stod(f[1]), 10.0 + 0.1 * i, 1e-6);
+    EXPECT_EQ(f[2], status[i]);
+  }
+  const auto row2 = splitCsv(lines[3]);
+  EXPECT_DOUBLE_EQ(std::stod(row2[3]), 3.0);
+  EXPECT_DOUBLE_EQ(std::stod(row2[4]), 1.0);
+  EXPECT_EQ(row2[5], "120");
+  EXPECT_EQ(row2[6], "80");
+
+  // summary.json
+  const nlohmann::json s = readJson(out + "/summary.json");
+  EXPECT_EQ(s["backend"], "cslam");
+  EXPECT_EQ(s["frames"], 5);
+  EXPECT_EQ(s["tracked"], 2);
+  EXPECT_EQ(s["lost"], 3);
+  EXPECT_EQ(s["first_lost_frame"], 1);
+  EXPECT_EQ(s["sequence"], "seq");  // extra fields merged in
+  // Back-end times of the four frames it processed: 5, 1, 3, 4 ms.
+  const auto& ms = s["ms_per_frame"];
+  EXPECT_DOUBLE_EQ(ms["median"].get<double>(), 3.5);
+  EXPECT_DOUBLE_EQ(ms["mean"].get<double>(), 3.25);
+  EXPECT_DOUBLE_EQ(ms["max"].get<double>(), 5.0);
+  EXPECT_DOUBLE_EQ(ms["p99"].get<double>(), 5.0);
+}
+
+TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
+  test::TempDir dir;
+  RunRecorder recorder(dir.path(), "monoslam");
+  for (int i = 0; i < 3; ++i)
+    recorder.record(frameAt(i), tracked(TrackStatus::Ekf, SE3(), 10, 9), 2.0 * (i + 1), 0.0);
+  const nlohmann::json s = recorder.summary();
+  EXPECT_EQ(s["frames"], 3);
+  EXPECT_EQ(s["tracked"], 3);
+  EXPECT_EQ(s["lost"], 0);
+  EXPECT_TRUE(s["first_lost_frame"].is_null());
+  EXPECT_DOUBLE_EQ(s["ms_per_frame"]["median"].get<double>(), 4.0);
+}
+
+TEST(RunRecorder, WithoutPosesTheTrajectoryHoldsOnlyItsHeader) {
+  test::TempDir dir;
+  {
+    RunRecorder recorder(dir.path(), "cslam");
+    recorder.record(frameAt(0), lost("no board"), 1.0, 0.0);
+    recorder.record(frameAt(1), lost("no board"), 1.0, 0.0);
+    const nlohmann::json s = recorder.summary();
+    EXPECT_EQ(s["tracked"], 0);
+    EXPECT_EQ(s["first_lost_frame"], 0);
+  }
+  const auto lines = readLines(dir.file("trajectory.txt"));
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0][0], '#');
+  EXPECT_THROW(readTrajectory(dir.file("trajectory.txt")), InputError);  // no made-up pose
+  EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 3u);
+}
+
+TEST(RunRecorder, TimingStatsOfKnownSamples) {
+  std::vector<double> ms;
+  for (int i = 1; i <= 200; ++i) ms.push_back(i);
+  const TimingStats t = timingStats(ms);
+  EXPECT_DOUBLE_EQ(t.median, 100.5);
+  EXPECT_DOUBLE_EQ(t.mean, 100.5);
+  EXPECT_DOUBLE_EQ(t.p99, 198.0);
+  EXPECT_DOUBLE_EQ(t.max, 200.0);
+  const TimingStats none = timingStats({});
+  EXPECT_EQ(none.max, 0.0);
+}
+
+TEST(RunRecorder, MapPlyHeaderAndVertices) {
+  test::TempDir dir;
+  std::vector<MapPoint> points(3);
+  for (int i = 0; i < 3; ++i) {
+    points[i].id = 10 + i;
+    points[i].p_world = Vec3(0.5 * i, -1.25, 2.0 + i);
+    points[i].observations = 4 * i;
+    points[i].sigma = i == 0 ? -1.0 : 0.01 * i;
+  }
+  const std::string path = dir.file("map.ply");
+  writeMapPly(path, points);
+  const auto lines = readLines(path);
+  ASSERT_GE(lines.size(), 4u);
+  EXPECT_EQ(lines[0], "ply");
+  EXPECT_EQ(lines[1], "format ascii 1.0");
+  const auto end = std::find(lines.begin(), lines.end(), "end_header");
+  ASSERT_NE(end, lines.end());
+  EXPECT_NE(std::find(lines.begin(), end, "element vertex 3"), end);
+  for (const char* p : {"property float x", "property float y", "property float z"})
+    EXPECT_NE(std::find(lines.begin(), end, p), end) << p;
+  ASSERT_EQ(lines.end() - end - 1, 3);
+  std::istringstream row(*(end + 3));
+  double x, y, z, sigma;
+  int id, observations;
+  row >> x >> y >> z >> id >> observations >> sigma;
+  EXPECT_EQ(x, 1.0);
+  EXPECT_EQ(y, -1.25);
+  EXPECT_EQ(z, 4.0);
+  EXPECT_EQ(id, 12);
+  EXPECT_EQ(observations, 8);
+  EXPECT_NEAR(sigma, 0.02, 1e-6);
+}
+
+TEST(RunRecorder, UnwritableOutputIsAnInputError) {
+  test::TempDir dir;
+  test::writeText(dir.file("file"), "x");
+  EXPECT_THROW(RunRecorder(dir.file("file/run"), "cslam"), InputError);  // a file in the way
+  EXPECT_THROW(writeMapPly(dir.file("missing/map.ply"), {}), InputError);
+}
+
+}  // namespace
+}  // namespace slamcmp
