@@ -24,12 +24,7 @@ cv::Mat readGreyImage(const std::string& path) {
   } catch (const cv::Exception&) {
     return {};
   }
-  if (img.empty()) return {};
-  if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-  else if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
-  if (img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 257.0);
-  else if (img.depth() != CV_8U) img.convertTo(img, CV_8U);
-  return img;
+  return img.empty() ? img : toGrey(img);
 }
 
 namespace {

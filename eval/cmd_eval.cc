@@ -1,0 +1,79 @@
+// slamcmp eval: trajectory error of an estimate against ground truth (SPEC section 4).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "core/error.h"
+#include "core/trajectory.h"
+#include "eval/commands.h"
+#include "eval/trajectory_metrics.h"
+
+namespace slamcmp {
+
+namespace {
+
+struct EvalRequest {
+  std::string groundtruth_path;
+  std::string estimate_path;
+  EvalOptions options;
+  bool json = false;
+};
+
+void printRow(const char* name, const ErrorStatistics& s) {
+  std::printf("%-15s %11.6f %11.6f %11.6f %11.6f %11.6f %11.6f\n", name, s.rmse, s.mean, s.median,
+              s.std, s.min, s.max);
+}
+
+void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
+  std::printf("%zu pose pairs (max-diff %g s), alignment %s", e.pairs.size(),
+              request.options.max_diff, e.align.c_str());
+  if (e.align == "sim3") std::printf(", scale %.6f", e.T_gt_estimate.scale);
+  std::printf("; RPE over %d frame%s, %zu pairs\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
+              e.rpe_trans.size());
+  std::printf("%-15s %11s %11s %11s %11s %11s %11s\n", "", "rmse", "mean", "median", "std", "min",
+              "max");
+  printRow("ATE trans (m)", e.ate_trans_stats);
+  printRow("ATE rot (deg)", e.ate_rot_deg_stats);
+  printRow("RPE trans (m)", e.rpe_trans_stats);
+  printRow("RPE rot (deg)", e.rpe_rot_deg_stats);
+  std::printf("ATE rmse per axis (m): x %.6f  y %.6f  z %.6f\n", e.ate_axis_rmse.x(),
+              e.ate_axis_rmse.y(), e.ate_axis_rmse.z());
+}
+
+}  // namespace
+
+void addEvalCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "eval",
+      "trajectory error of an estimate against ground truth (ATE, RPE), as evo computes it");
+  auto request = std::make_shared<EvalRequest>();
+  cmd->add_option("--groundtruth", request->groundtruth_path,
+                  "ground truth trajectory: TUM, EuRoC (.csv) or KITTI")
+      ->required();
+  cmd->add_option("--estimate", request->estimate_path, "estimated trajectory: TUM, EuRoC or KITTI")
+      ->required();
+  cmd->add_option("--align", request->options.align,
+                  "Umeyama alignment of the estimate onto the ground truth: none (default), se3, "
+                  "sim3 (also reports the scale)");
+  cmd->add_option("--max-diff", request->options.max_diff,
+                  "largest time difference of an associated pose pair, seconds (default 0.01)");
+  cmd->add_option("--delta", request->options.delta, "RPE step in matched poses (default 1)");
+  cmd->add_flag("--json", request->json, "print one JSON object instead of a table");
+  cmd->callback([request] {
+    request->options.check();
+    const Trajectory groundtruth = readTrajectory(request->groundtruth_path);
+    const Trajectory estimate = readTrajectory(request->estimate_path);
+    TrajectoryEvaluation evaluation;
+    try {
+      evaluation = evaluateTrajectory(groundtruth, estimate, request->options);
+    } catch (const InputError& e) {  // name the two files the problem is about
+      throw InputError(request->estimate_path + " against " + request->groundtruth_path, e.what());
+    }
+    if (request->json)
+      std::cout << evaluationToJson(evaluation, request->options).dump(1) << "\n";
+    else
+      printTable(evaluation, *request);
+  });
+}
+
+}  // namespace slamcmp

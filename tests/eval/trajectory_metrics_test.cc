@@ -1,0 +1,163 @@
+// ATE, RPE and their statistics on cases computed by hand.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "eval/trajectory_metrics.h"
+
+namespace slamcmp {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A curved, turning, non-planar path: 40 poses at 10 Hz.
+Trajectory wigglyTrajectory() {
+  Trajectory t;
+  for (int i = 0; i < 40; ++i) {
+    const double a = 0.15 * i;
+    t.push_back({1000.0 + 0.1 * i,
+                 SE3::fromRotvec(Vec3(0.1 * std::sin(a), 0.05 * a, 0.2 * std::cos(0.7 * a)),
+                                 Vec3(2.0 * std::cos(a), 1.5 * std::sin(a), 0.3 * a))});
+  }
+  return t;
+}
+
+EvalOptions withAlign(const std::string& align, int delta = 1) {
+  EvalOptions o;
+  o.align = align;
+  o.delta = delta;
+  return o;
+}
+
+TEST(Statistics, AsNumpy) {
+  const ErrorStatistics even = computeStatistics({4.0, 1.0, 3.0, 2.0});
+  EXPECT_DOUBLE_EQ(even.mean, 2.5);
+  EXPECT_DOUBLE_EQ(even.median, 2.5);
+  EXPECT_DOUBLE_EQ(even.std, std::sqrt(1.25));  // population std (ddof 0)
+  EXPECT_DOUBLE_EQ(even.rmse, std::sqrt(7.5));
+  EXPECT_DOUBLE_EQ(even.min, 1.0);
+  EXPECT_DOUBLE_EQ(even.max, 4.0);
+  const ErrorStatistics odd = computeStatistics({3.0, 1.0, 2.0});
+  EXPECT_DOUBLE_EQ(odd.median, 2.0);
+  const ErrorStatistics one = computeStatistics({0.5});
+  EXPECT_DOUBLE_EQ(one.std, 0.0);
+  EXPECT_DOUBLE_EQ(one.rmse, 0.5);
+}
+
+TEST(TrajectoryMetrics, TrajectoryAgainstItselfHasNoError) {
+  const Trajectory t = wigglyTrajectory();
+  for (const char* align : {"none", "se3", "sim3"}) {
+    const TrajectoryEvaluation e = evaluateTrajectory(t, t, withAlign(align));
+    EXPECT_EQ(e.pairs.size(), t.size()) << align;
+    EXPECT_LT(e.ate_trans_stats.max, 1e-12) << align;
+    EXPECT_LT(e.ate_rot_deg_stats.max, 1e-9) << align;
+    EXPECT_LT(e.rpe_trans_stats.max, 1e-12) << align;
+    EXPECT_LT(e.rpe_rot_deg_stats.max, 1e-9) << align;
+    EXPECT_NEAR(e.T_gt_estimate.scale, 1.0, 1e-12) << align;
+    EXPECT_EQ(e.rpe_trans.size(), t.size() - 1) << align;
+  }
+}
+
+// The estimate is the ground truth moved by a constant world offset: every ATE translation error
+// is |offset|, per axis |offset_k|; rotations and relative motions are untouched; se3 alignment
+// removes the offset.
+TEST(TrajectoryMetrics, KnownOffsetGivesExactAte) {
+  const Trajectory gt = wigglyTrajectory();
+  const Vec3 offset(0.1, -0.2, 0.3);
+  Trajectory est = gt;
+  for (auto& p : est) p.T_world_camera = SE3(p.T_world_camera.R(), p.T_world_camera.t() + offset);
+
+  const TrajectoryEvaluation e = evaluateTrajectory(gt, est, withAlign("none"));
+  EXPECT_NEAR(e.ate_trans_stats.rmse, offset.norm(), 1e-12);
+  EXPECT_NEAR(e.ate_trans_stats.min, offset.norm(), 1e-12);
+  EXPECT_NEAR(e.ate_trans_stats.max, offset.norm(), 1e-12);
+  EXPECT_NEAR(e.ate_trans_stats.std, 0.0, 1e-12);
+  EXPECT_LT((e.ate_axis_rmse - offset.cwiseAbs()).norm(), 1e-12);
+  EXPECT_LT(e.ate_rot_deg_stats.max, 1e-9);
+  EXPECT_LT(e.rpe_trans_stats.max, 1e-12);
+
+  const TrajectoryEvaluation aligned = evaluateTrajectory(gt, est, withAlign("se3"));
+  EXPECT_LT(aligned.ate_trans_stats.max, 1e-12);
+}
+
+// The estimate is the ground truth seen through a similarity (as a monocular SLAM's arbitrary
+// world frame and scale): sim3 recovers the scale and removes the error; se3 cannot.
+TEST(TrajectoryMetrics, Sim3RecoversAKnownSimilarity) {
+  const Trajectory gt = wigglyTrajectory();
+  const Mat3 R_gt_est = rotationFromRotvec(Vec3(0.4, -0.2, 1.3));
+  const Vec3 t_gt_est(3.0, -1.0, 2.0);
+  const double scale = 0.37;  // p_gt = scale * R * p_est + t
+  Trajectory est = gt;
+  for (auto& p : est)
+    p.T_world_camera = SE3(R_gt_est.transpose() * p.T_world_camera.R(),
+                           R_gt_est.transpose() * (p.T_world_camera.t() - t_gt_est) / scale);
+
+  const TrajectoryEvaluation e = evaluateTrajectory(gt, est, withAlign("sim3"));
+  EXPECT_NEAR(e.T_gt_estimate.scale, scale, 1e-12);
+  EXPECT_LT((e.T_gt_estimate.R - R_gt_est).norm(), 1e-12);
+  EXPECT_LT(e.ate_trans_stats.max, 1e-12);
+  EXPECT_LT(e.ate_rot_deg_stats.max, 1e-9);
+  EXPECT_LT(e.rpe_trans_stats.max, 1e-12);
+  EXPECT_LT(e.rpe_rot_deg_stats.max, 1e-9);
+
+  const TrajectoryEvaluation rigid = evaluateTrajectory(gt, est, withAlign("se3"));
+  EXPECT_EQ(rigid.T_gt_estimate.scale, 1.0);
+  EXPECT_GT(rigid.ate_trans_stats.rmse, 0.1);
+  EXPECT_LT(rigid.ate_rot_deg_stats.max, 1e-9);  // the rotation is still found exactly
+}
+
+// Four poses along x, 1 m apart; the estimate's third pose is off by 0.1 m in y and turned 90
+// degrees about z. By hand, with E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j):
+//   (0,1): identity;  (1,2): (Rz(90), (0, 0.1, 0));
+//   (2,3): (Rz(-90), Rz(-90) (1, -0.1, 0) - (1, 0, 0)) = (Rz(-90), (-1.1, -1, 0)).
+// With delta 2 the only pair is (0,2): (Rz(90), (0, 0.1, 0)).
+TEST(TrajectoryMetrics, RpeByHandOnFourPoses) {
+  Trajectory gt, est;
+  for (int i = 0; i < 4; ++i) gt.push_back({double(i), SE3(Mat3::Identity(), Vec3(i, 0, 0))});
+  est = gt;
+  est[2].T_world_camera = SE3::fromRotvec(Vec3(0, 0, kPi / 2), Vec3(2, 0.1, 0));
+
+  const TrajectoryEvaluation e = evaluateTrajectory(gt, est, withAlign("none", 1));
+  ASSERT_EQ(e.rpe_trans.size(), 3u);
+  EXPECT_NEAR(e.rpe_trans[0], 0.0, 1e-15);
+  EXPECT_NEAR(e.rpe_trans[1], 0.1, 1e-15);
+  EXPECT_NEAR(e.rpe_trans[2], std::sqrt(1.1 * 1.1 + 1.0), 1e-14);
+  EXPECT_NEAR(e.rpe_rot_deg[0], 0.0, 1e-12);
+  EXPECT_NEAR(e.rpe_rot_deg[1], 90.0, 1e-12);
+  EXPECT_NEAR(e.rpe_rot_deg[2], 90.0, 1e-12);
+  EXPECT_NEAR(e.rpe_trans_stats.rmse, std::sqrt((0.01 + 2.21) / 3.0), 1e-14);
+  EXPECT_NEAR(e.rpe_axis_rmse.x(), std::sqrt(1.21 / 3.0), 1e-14);
+  EXPECT_NEAR(e.rpe_axis_rmse.y(), std::sqrt(1.01 / 3.0), 1e-14);
+  // ATE: only pose 2 is off, by 0.1 m and 90 degrees.
+  EXPECT_NEAR(e.ate_trans_stats.max, 0.1, 1e-15);
+  EXPECT_NEAR(e.ate_trans_stats.mean, 0.025, 1e-15);
+  EXPECT_NEAR(e.ate_rot_deg_stats.max, 90.0, 1e-12);
+
+  const TrajectoryEvaluation e2 = evaluateTrajectory(gt, est, withAlign("none", 2));
+  ASSERT_EQ(e2.rpe_trans.size(), 1u);
+  EXPECT_NEAR(e2.rpe_trans[0], 0.1, 1e-15);
+  EXPECT_NEAR(e2.rpe_rot_deg[0], 90.0, 1e-12);
+}
+
+TEST(TrajectoryMetrics, TooFewPairsAreRefused) {
+  Trajectory gt, est;
+  for (int i = 0; i < 2; ++i) gt.push_back({double(i), SE3(Mat3::Identity(), Vec3(i, 0, 0))});
+  est = gt;
+  EXPECT_THROW(evaluateTrajectory(gt, est, withAlign("se3")), InputError);      // < 3 for Umeyama
+  EXPECT_THROW(evaluateTrajectory(gt, est, withAlign("none", 2)), InputError);  // no RPE pair
+  EXPECT_NO_THROW(evaluateTrajectory(gt, est, withAlign("none", 1)));
+}
+
+TEST(TrajectoryMetrics, BadOptionsAreRefused) {
+  const Trajectory t = wigglyTrajectory();
+  EXPECT_THROW(evaluateTrajectory(t, t, withAlign("sim2")), InputError);
+  EXPECT_THROW(evaluateTrajectory(t, t, withAlign("none", 0)), InputError);
+  EvalOptions negative;
+  negative.max_diff = -1.0;
+  EXPECT_THROW(evaluateTrajectory(t, t, negative), InputError);
+}
+
+}  // namespace
+}  // namespace slamcmp
