@@ -60,7 +60,7 @@ void expectPoseMatchesLine(const StampedPose& pose, const std::vector<std::strin
       ASSERT_EQ(f.size(), 12u);
       EXPECT_EQ(pose.timestamp, kitti_time);
       EXPECT_EQ(pose.T_world_camera.t(), Vec3(num(f[3]), num(f[7]), num(f[11])));
-      // The file's 3x3 part has 7 significant digits; the reader projects it onto SO(3).
+      // The 3x3 part is kept as written when orthonormal to 1e-5 (as evo), else projected onto SO(3).
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
           EXPECT_NEAR(pose.T_world_camera.R()(r, c), num(f[4 * r + c]), 2e-6) << r << "," << c;

@@ -1,0 +1,53 @@
+#include "eval/plot.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+Figure twoPanelFigure() {
+  Figure fig;
+  fig.title = "test";
+  PlotPanel a{"a", "frame", "X [m]", {}, false, false};
+  a.series.push_back({"ground truth", {0, 1, 2, 3}, {0.0, 0.1, NAN, 0.3}, "#888888", false, false, 3});
+  a.series.push_back({"cslam", {0, 1, 2, 3}, {0.0, 0.11, 0.2, 0.31}});
+  PlotPanel b{"b", "X [m]", "Z [m]", {}, true, false};
+  b.series.push_back({"monoslam", {0, 1}, {1, 2}});
+  fig.panels = {a, b};
+  return fig;
+}
+
+TEST(Plot, ScriptHoldsEverySeriesAndBreaksLinesAtNaN) {
+  const std::string script = gnuplotScript(twoPanelFigure(), "/tmp/x.png");
+  EXPECT_NE(script.find("$d0_0 << EOD\n0 0\n1 0.1\n\n3 0.3\nEOD"), std::string::npos) << script;
+  EXPECT_NE(script.find("$d0_1"), std::string::npos);
+  EXPECT_NE(script.find("$d1_0"), std::string::npos);
+  EXPECT_NE(script.find("title \"monoslam\""), std::string::npos);
+  EXPECT_NE(script.find("set size ratio -1"), std::string::npos);  // equal axes in panel b
+  EXPECT_NE(script.find("multiplot layout 2,1"), std::string::npos);
+}
+
+TEST(Plot, QuotesInLabelsAreEscaped) {
+  Figure fig;
+  fig.panels.push_back({"say \"hi\"", "x", "y", {{"a", {0}, {0}}}, false, false});
+  EXPECT_NE(gnuplotScript(fig, "/tmp/x.png").find("\"say \\\"hi\\\"\""), std::string::npos);
+}
+
+TEST(Plot, WritesAPng) {
+  test::TempDir tmp;
+  const std::string path = tmp.file("fig.png");
+  writeFigurePng(twoPanelFigure(), path);
+  std::ifstream in(path, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  ASSERT_TRUE(in) << "no PNG written (is gnuplot installed?)";
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+}
+
+}  // namespace
+}  // namespace slamcmp
