@@ -1,0 +1,101 @@
+#include "datasets/synth_sequence.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/error.h"
+#include "core/options.h"
+#include "core/progress.h"
+#include "core/target.h"
+#include "core/trajectory.h"
+#include "datasets/room_scene.h"
+#include "datasets/scene_renderer.h"
+#include "datasets/scene_yaml.h"
+
+namespace slamcmp {
+
+namespace fs = std::filesystem;
+
+void SynthOptions::check() const {
+  findMotionPreset(preset);
+  if (seed < 0) throw InputError("--seed", "must be >= 0, got " + std::to_string(seed));
+  if (frames < 0) throw InputError("--frames", "must be >= 0, got " + std::to_string(frames));
+  if (!(noise >= 0) || !std::isfinite(noise)) throw InputError("--noise", "must be a finite number >= 0");
+  if (!(blur >= 0) || !(blur <= 100)) throw InputError("--blur", "must be in [0, 100] pixels");
+  if (!(lens_blur >= 0) || !(lens_blur <= 5)) throw InputError("--lens-blur", "must be in [0, 5] pixels");
+  if (!(illumination >= 0) || !(illumination < 1))
+    throw InputError("--illumination", "must be in [0, 1)");
+  if (supersample < 1 || supersample > 8)
+    throw InputError("--supersample", "must be in [1, 8], got " + std::to_string(supersample));
+}
+
+int SynthOptions::frameCount() const { return frames > 0 ? frames : findMotionPreset(preset).frames; }
+
+namespace {
+
+void writeTextFile(const fs::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw InputError(path.string(), "cannot be written");
+}
+
+}  // namespace
+
+void writeSyntheticSequence(const SynthOptions& options, const std::string& out_dir) {
+  options.check();
+  const fs::path out(out_dir);
+  std::error_code ec;
+  fs::create_directories(out / "rgb", ec);
+  if (ec || !fs::is_directory(out / "rgb"))
+    throw InputError(out_dir, "cannot create the output folder: " + ec.message());
+
+  const CameraModel camera = syntheticCamera();
+  const Scene scene = buildRoomScene(static_cast<std::uint64_t>(options.seed));
+  const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
+  writeCameraYaml((out / "camera.yaml").string(), camera);
+  writeTargetYaml((out / "target.yaml").string(), scene.target);
+  writeSceneYaml((out / "scene.yaml").string(), scene);
+  std::ostringstream info;
+  info << "# slamcmp synth: a synthetic sequence, " << findMotionPreset(options.preset).description
+       << ", " << kSyntheticFps << " fps\n"
+       << describeOptions(options);
+  writeTextFile(out / "info.yaml", info.str());
+
+  const SceneRenderer renderer(camera, scene, options.supersample);
+  const FrameEffects effects{options.lens_blur, options.noise, options.blur, options.illumination};
+  const auto pose_at = [&motion](double t) { return motion.T_world_camera(t); };
+  const int frames = options.frameCount();
+  Trajectory groundtruth;
+  std::string rgb_list =
+      "# synthetic sequence: timestamp image (slamcmp synth --preset " + options.preset + ")\n";
+  Progress progress("synth " + options.preset, frames);
+  for (int i = 0; i < frames; ++i) {
+    const double t = i / kSyntheticFps;
+    const cv::Mat image = renderer.renderFrame(pose_at, t, 1.0 / kSyntheticFps, effects,
+                                               static_cast<std::uint64_t>(options.seed), i);
+    char name[32];
+    std::snprintf(name, sizeof name, "rgb/%06d.png", i);
+    const fs::path image_path = out / name;
+    bool written = false;
+    try {
+      written = cv::imwrite(image_path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    } catch (const cv::Exception&) {
+    }
+    if (!written) throw InputError(image_path.string(), "cannot be written");
+    char line[64];
+    std::snprintf(line, sizeof line, "%.6f %s\n", t, name);
+    rgb_list += line;
+    groundtruth.push_back({t, motion.T_world_camera(t)});
+    progress.update(i + 1);
+  }
+  progress.finish();
+  writeTextFile(out / "rgb.txt", rgb_list);
+  writeTumTrajectory((out / "groundtruth.txt").string(), groundtruth);
+}
+
+}  // namespace slamcmp

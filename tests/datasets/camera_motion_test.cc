@@ -1,0 +1,165 @@
+// The presets' motions: the board fully visible and unoccluded throughout tv1..tv4, absent for a
+// stretch in board_leaves, each moving mostly along its own axis, smooth, and repeating.
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "datasets/camera_motion.h"
+#include "datasets/room_scene.h"
+
+namespace slamcmp {
+namespace {
+
+// The outer squares' corners (the detector needs whole squares around the inner corners).
+std::vector<Vec3> boardSquareCorners(const ChessboardTarget& t) {
+  const double s = t.square_size;
+  return {Vec3(-s, -s, 0), Vec3(t.cols * s, -s, 0), Vec3(t.cols * s, t.rows * s, 0), Vec3(-s, t.rows * s, 0)};
+}
+
+// Number of the board's inner corners that project into the image (in front of the camera).
+int cornersInImage(const CameraModel& camera, const SE3& T_world_camera, double margin) {
+  int n = 0;
+  for (const Vec3& p : syntheticTarget().cornersWorld()) {
+    const Vec3 p_camera = T_world_camera.inverse() * p;
+    if (p_camera.z() > 0.05 && camera.inImage(camera.project(p_camera), margin)) ++n;
+  }
+  return n;
+}
+
+class PresetMotion : public ::testing::TestWithParam<const char*> {};
+
+// Every frame: all 54 corners at least 30 px inside the image, the outer squares at least 10 px
+// inside, distances 0.5 to 1.2 m, and nothing between the camera and any corner.
+TEST_P(PresetMotion, BoardFullyVisibleInEveryFrame) {
+  const MotionPreset& preset = findMotionPreset(GetParam());
+  const CameraModel camera = syntheticCamera();
+  const Scene scene = buildRoomScene(1);
+  const ChessboardTarget target = syntheticTarget();
+  const CameraMotion motion(preset.name, 1);
+  for (int i = 0; i < preset.frames; ++i) {
+    const SE3 T = motion.T_world_camera(i / kSyntheticFps);
+    ASSERT_EQ(cornersInImage(camera, T, 30.0), target.numCorners()) << "frame " << i;
+    for (const Vec3& p : boardSquareCorners(target)) {
+      const Vec3 p_camera = T.inverse() * p;
+      ASSERT_GT(p_camera.z(), 0.0);
+      ASSERT_TRUE(camera.inImage(camera.project(p_camera), 10.0)) << "frame " << i;
+    }
+    const double distance = -T.t().z();
+    ASSERT_GT(distance, 0.5) << "frame " << i;
+    ASSERT_LT(distance, 1.2) << "frame " << i;
+    const SceneView view(scene, T);
+    for (const Vec3& p : target.cornersWorld()) {
+      const Vec3 p_camera = T.inverse() * p;
+      const SceneHit hit = view.intersect(p_camera.x() / p_camera.z(), p_camera.y() / p_camera.z());
+      ASSERT_EQ(hit.surface, scene.boardWall()) << "frame " << i << ": a corner is hidden";
+      ASSERT_NEAR(hit.depth, p_camera.z(), 1e-9);
+    }
+  }
+}
+
+// The preset's own axis carries most of the motion: its position range is the largest, 0.2 to
+// 0.4 m (tv4: X and Z both, a rectangle).
+TEST_P(PresetMotion, MovesAlongItsAxis) {
+  const MotionPreset& preset = findMotionPreset(GetParam());
+  const CameraMotion motion(preset.name, 1);
+  Vec3 lo = Vec3::Constant(1e9), hi = -lo;
+  for (int i = 0; i < preset.frames; ++i) {
+    const Vec3 p = motion.T_world_camera(i / kSyntheticFps).t();
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec3 range = hi - lo;
+  const std::string name = preset.name;
+  if (name == "tv4") {
+    EXPECT_GT(range.x(), 0.2);
+    EXPECT_GT(range.z(), 0.2);
+    EXPECT_LT(range.y(), 0.25 * std::min(range.x(), range.z()));
+    return;
+  }
+  const int axis = name == "tv1" ? 0 : name == "tv2" ? 1 : 2;
+  EXPECT_GT(range[axis], 0.2) << name;
+  EXPECT_LT(range[axis], 0.65) << name;
+  for (int k = 0; k < 3; ++k)
+    if (k != axis) {
+      EXPECT_LT(range[k], 0.35 * range[axis]) << name << " axis " << k;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Tv, PresetMotion, ::testing::Values("tv1", "tv2", "tv3", "tv4"));
+
+// board_leaves: the board in view at the start, then for at least 35 consecutive frames no
+// corner of it in the image, then back in full view.
+TEST(BoardLeaves, BoardLeavesTheViewForAStretchAndReturns) {
+  const MotionPreset& preset = findMotionPreset("board_leaves");
+  const CameraModel camera = syntheticCamera();
+  const CameraMotion motion(preset.name, 1);
+  int longest_absent = 0, run = 0, full_after = 0;
+  bool left = false;
+  for (int i = 0; i < preset.frames; ++i) {
+    const int n = cornersInImage(camera, motion.T_world_camera(i / kSyntheticFps), 0.0);
+    if (i == 0) {
+      EXPECT_EQ(n, 54);
+    }
+    run = n == 0 ? run + 1 : 0;
+    longest_absent = std::max(longest_absent, run);
+    if (n == 0) left = true;
+    if (left && n == 54) ++full_after;
+  }
+  EXPECT_GE(longest_absent, 35);
+  EXPECT_GT(full_after, 50);
+}
+
+// Poses change smoothly (handheld, 10 fps): at most 3 cm and 3 degrees between frames, for runs
+// far beyond the preset's length too.
+TEST(CameraMotion, SmoothAndDefinedBeyondThePresetLength) {
+  for (const MotionPreset& preset : motionPresets()) {
+    const CameraMotion motion(preset.name, 5);
+    SE3 previous = motion.T_world_camera(0);
+    for (int i = 1; i < 3 * preset.frames; ++i) {
+      const SE3 T = motion.T_world_camera(i / kSyntheticFps);
+      const SE3 step = previous.inverse() * T;
+      ASSERT_LT(step.t().norm(), 0.03) << preset.name << " frame " << i;
+      ASSERT_LT(rotationAngle(step.R()), 3.0 * M_PI / 180.0) << preset.name << " frame " << i;
+      previous = T;
+    }
+  }
+}
+
+// The jitter is drawn from the seed: the same seed gives the same poses, another seed others.
+TEST(CameraMotion, JitterFollowsTheSeed) {
+  const double t = 2.3;
+  const SE3 a = CameraMotion("tv3", 7).T_world_camera(t), b = CameraMotion("tv3", 7).T_world_camera(t);
+  const SE3 c = CameraMotion("tv3", 8).T_world_camera(t);
+  EXPECT_EQ((a.matrix() - b.matrix()).norm(), 0.0);
+  EXPECT_GT((a.matrix() - c.matrix()).norm(), 1e-4);
+}
+
+TEST(CameraMotion, UnknownPresetIsAnInputError) {
+  EXPECT_THROW(CameraMotion("tv5", 1), InputError);
+  EXPECT_THROW(findMotionPreset(""), InputError);
+}
+
+// The look-at pose: camera at the given point, optical axis towards the target, roll about it.
+TEST(CameraMotion, LookAtPointsTheOpticalAxisAndRolls) {
+  const Vec3 p(0.1, -0.2, -0.8), target(0.3, 0.1, 0.0);
+  for (double roll : {0.0, 0.5 * M_PI, M_PI}) {
+    const SE3 T = lookAt(p, target, roll);
+    EXPECT_LT((T.t() - p).norm(), 1e-12);
+    EXPECT_LT((T.R().col(2) - (target - p).normalized()).norm(), 1e-12);
+    const Vec3 target_camera = T.inverse() * target;
+    EXPECT_NEAR(target_camera.x(), 0.0, 1e-12);
+    EXPECT_NEAR(target_camera.y(), 0.0, 1e-12);
+  }
+  // No roll: the camera's x axis is horizontal, its y axis points down (world +Y).
+  const SE3 T = lookAt(p, target);
+  EXPECT_NEAR(T.R().col(0).y(), 0.0, 1e-12);
+  EXPECT_GT(T.R().col(1).y(), 0.9);
+  // A quarter roll turns the image x axis onto the unrolled image y axis.
+  const SE3 rolled = lookAt(p, target, 0.5 * M_PI);
+  EXPECT_LT((rolled.R().col(0) - T.R().col(1)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace slamcmp

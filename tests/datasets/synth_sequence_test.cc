@@ -1,0 +1,127 @@
+// The written sequence folder reads back through core, and bad options are input errors.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/sequence.h"
+#include "datasets/room_scene.h"
+#include "datasets/scene_yaml.h"
+#include "datasets/synth_sequence.h"
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+TEST(SynthSequence, WrittenFolderReadsBackThroughCore) {
+  test::TempDir dir;
+  SynthOptions options;
+  options.preset = "tv3";
+  options.frames = 4;
+  options.seed = 2;
+  options.noise = 1.0;
+  options.supersample = 1;  // only the files are checked here
+  writeSyntheticSequence(options, dir.path());
+
+  Sequence seq = openSequence(dir.path());
+  EXPECT_EQ(seq.kind, "tum");
+  EXPECT_EQ(seq.frames->size(), 4);
+  EXPECT_EQ(seq.image_size, cv::Size(640, 480));
+  ASSERT_TRUE(seq.camera.has_value());
+  const CameraModel expected = syntheticCamera();
+  EXPECT_EQ(seq.camera->fx, expected.fx);
+  EXPECT_EQ(seq.camera->cy, expected.cy);
+  EXPECT_EQ(seq.camera->num_distortion, 5);
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(seq.camera->distortion[k], expected.distortion[k]);
+  ASSERT_TRUE(seq.target.has_value());
+  EXPECT_EQ(seq.target->cols, 9);
+  EXPECT_EQ(seq.target->rows, 6);
+  EXPECT_EQ(seq.target->square_size, 0.04);
+
+  // Ground truth: one pose per frame at the frame's timestamp, the motion's pose to the 1e-9 of
+  // the file's digits.
+  ASSERT_TRUE(seq.groundtruth.has_value());
+  ASSERT_EQ(seq.groundtruth->size(), 4u);
+  const CameraMotion motion("tv3", 2);
+  Frame frame;
+  for (int i = 0; seq.frames->next(&frame); ++i) {
+    ASSERT_FALSE(frame.grey.empty());
+    const StampedPose& gt = (*seq.groundtruth)[i];
+    EXPECT_NEAR(frame.timestamp, i / kSyntheticFps, 1e-9);
+    EXPECT_NEAR(gt.timestamp, frame.timestamp, 1e-9);
+    const SE3 truth = motion.T_world_camera(frame.timestamp);
+    EXPECT_LT((gt.T_world_camera.t() - truth.t()).norm(), 1e-8);
+    EXPECT_LT(rotationAngle(gt.T_world_camera.R().transpose() * truth.R()), 1e-8);
+  }
+
+  // scene.yaml: the board and every surface of the scene, in the world frame.
+  const SceneGeometry geometry = readSceneYaml(dir.file("scene.yaml"));
+  const Scene scene = buildRoomScene(2);
+  ASSERT_EQ(geometry.surfaces.size(), scene.surfaces.size());
+  for (size_t k = 0; k < scene.surfaces.size(); ++k) {
+    const TexturedRect& r = scene.surfaces[k];
+    EXPECT_EQ(geometry.surfaces[k].name, r.name);
+    EXPECT_LT((geometry.surfaces[k].origin - r.origin).norm(), 1e-9);
+    EXPECT_LT((geometry.surfaces[k].edge_u - r.size_u * r.axis_u).norm(), 1e-9);
+    EXPECT_LT((geometry.surfaces[k].edge_v - r.size_v * r.axis_v).norm(), 1e-9);
+    EXPECT_LT((geometry.surfaces[k].normal - r.normal).norm(), 1e-9);
+  }
+  EXPECT_LT((geometry.board.origin - Vec3(-0.075, -0.075, 0)).norm(), 1e-9);
+  EXPECT_TRUE(std::filesystem::exists(dir.file("info.yaml")));
+}
+
+TEST(SceneYaml, MalformedFilesAreInputErrors) {
+  test::TempDir dir;
+  const std::string path = dir.file("scene.yaml");
+  const std::string surface =
+      "{ name: s, origin: [0, 0, 0], edge_u: [1, 0, 0], edge_v: [0, 1, 0], normal: [0, 0, -1] }";
+  test::writeText(path, "%YAML:1.0\nboard: " + surface + "\nsurfaces: [ " + surface + " ]\n");
+  EXPECT_EQ(readSceneYaml(path).surfaces.size(), 1u);
+  for (const std::string& text :
+       {"%YAML:1.0\nsurfaces: [ " + surface + " ]\n",                      // no board
+        "%YAML:1.0\nboard: " + surface + "\nsurfaces: []\n",              // no surfaces
+        "%YAML:1.0\nboard: " + surface + "\nsurfaces: [ { name: s, origin: [0, 0] } ]\n"}) {
+    test::writeText(path, text);
+    EXPECT_THROW(readSceneYaml(path), InputError) << text;
+  }
+}
+
+TEST(SynthSequence, BadOptionsAreInputErrors) {
+  test::TempDir dir;
+  const auto rejects = [&](auto change) {
+    SynthOptions options;
+    options.frames = 1;
+    change(options);
+    EXPECT_THROW(writeSyntheticSequence(options, dir.path()), InputError);
+  };
+  rejects([](SynthOptions& o) { o.preset = "tv9"; });
+  rejects([](SynthOptions& o) { o.seed = -1; });
+  rejects([](SynthOptions& o) { o.frames = -3; });
+  rejects([](SynthOptions& o) { o.noise = -1; });
+  rejects([](SynthOptions& o) { o.noise = std::nan(""); });
+  rejects([](SynthOptions& o) { o.blur = -0.5; });
+  rejects([](SynthOptions& o) { o.illumination = 1.5; });
+  rejects([](SynthOptions& o) { o.supersample = 0; });
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));  // nothing written before the check
+}
+
+TEST(SynthSequence, UnwritableOutputIsAnInputError) {
+  test::TempDir dir;
+  test::writeText(dir.file("a_file"), "x");
+  SynthOptions options;
+  options.frames = 1;
+  EXPECT_THROW(writeSyntheticSequence(options, dir.file("a_file") + "/seq"), InputError);
+}
+
+TEST(SynthSequence, FrameCountDefaultsToThePresetLength) {
+  SynthOptions options;
+  for (const auto& [preset, frames] : {std::pair{"tv1", 337}, {"tv2", 335}, {"tv3", 318}, {"tv4", 402}}) {
+    options.preset = preset;
+    EXPECT_EQ(options.frameCount(), frames);
+  }
+  options.frames = 10000;
+  EXPECT_EQ(options.frameCount(), 10000);
+}
+
+}  // namespace
+}  // namespace slamcmp
