@@ -57,8 +57,9 @@ class Tracker {
   virtual std::vector<MapPoint> mapPoints() const { return {}; }
   // The options in force, recorded in summary.json.
   virtual nlohmann::json options() const { return nlohmann::json::object(); }
-  // Called once after the last frame. Throws InputError when the run as a whole was impossible
-  // with this input (e.g. the board never appeared and the mode needs it).
+  // Called once after the last frame. Throws InputError (without a file name: the caller adds
+  // the sequence's) when the run as a whole was impossible with this input, e.g. the board never
+  // appeared and the mode needs it.
   virtual void finish() {}
 };
 

@@ -98,7 +98,13 @@ nlohmann::json runSequence(const RunRequest& request) {
   progress.finish();
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
-  if (!interrupted()) tracker->finish();
+  if (!interrupted()) {
+    try {
+      tracker->finish();
+    } catch (const InputError& e) {  // the back-end cannot know the path: name it here
+      throw InputError(seq.path, e.what());
+    }
+  }
 
   nlohmann::json extra;
   extra["sequence"] = seq.path;

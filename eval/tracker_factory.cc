@@ -4,6 +4,8 @@
 #include <map>
 
 #include "core/error.h"
+#include "cslam/cslam_tracker.h"
+#include "monoslam_ekf/monoslam_tracker.h"
 
 namespace slamcmp {
 
@@ -13,7 +15,10 @@ using Maker = std::function<std::unique_ptr<Tracker>(const TrackerContext&)>;
 
 // One line per back-end.
 const std::map<std::string, Maker>& makers() {
-  static const std::map<std::string, Maker> m = {};
+  static const std::map<std::string, Maker> m = {
+      {"cslam", [](const TrackerContext& c) { return makeCslamTracker(c); }},
+      {"monoslam", [](const TrackerContext& c) { return makeMonoslamTracker(c); }},
+  };
   return m;
 }
 

@@ -1,0 +1,346 @@
+#include "monoslam_ekf/monoslam_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <sstream>
+#include <iomanip>
+
+#include "core/chessboard.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "monoslam_ekf/board_pose.h"
+#include "monoslam_ekf/corner_selection.h"
+#include "monoslam_ekf/ekf_update.h"
+#include "monoslam_ekf/joint_compatibility.h"
+#include "monoslam_ekf/measurement_model.h"
+#include "monoslam_ekf/motion_model.h"
+#include "monoslam_ekf/patch_search.h"
+
+namespace slamcmp {
+
+namespace {
+
+std::string fixed(double value, int digits) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << value;
+  return out.str();
+}
+
+}  // namespace
+
+MonoslamTracker::MonoslamTracker(const TrackerContext& context) : init_(context.init) {
+  if (!context.camera)
+    throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
+  if (!context.target)
+    throw InputError("--target", "the monoslam back-end needs the board (target.yaml): its corners start the map");
+  camera_ = *context.camera;
+  target_ = *context.target;
+  if (init_ != InitSource::Board) {
+    if (!context.T_world_camera_init)
+      throw InputError("--init", "groundtruth and manual initialisation need the first camera pose");
+    T_world_camera_init_ = context.T_world_camera_init;
+  }
+  loadOptions(context.options, context.options_source, options_);
+}
+
+nlohmann::json MonoslamTracker::options() const { return optionsToJson(options_); }
+
+void MonoslamTracker::finish() {
+  if (!ever_started_)
+    throw InputError("", "monoslam never started: no frame showed the " + std::to_string(target_.cols) + "x" +
+                             std::to_string(target_.rows) + " chessboard (--init board needs it in view)");
+}
+
+bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
+  std::vector<cv::Point2f> corners;
+  const bool board_seen = detectChessboard(frame.grey, target_, &corners, options_.board);
+  SE3 T_world_camera;
+  // The given pose starts the run; every restart after a loss needs the board.
+  if (init_ != InitSource::Board && !ever_started_) {
+    T_world_camera = *T_world_camera_init_;
+  } else if (board_seen) {
+    T_world_camera = boardPose(camera_, target_, corners);
+  } else {
+    *reason = "no board seen";
+    return false;
+  }
+
+  const StartOptions& s = options_.start;
+  const bool manual = init_ == InitSource::Manual && !ever_started_;
+  const double sigma_r = manual ? s.manual_position_sigma : s.position_sigma;
+  const double sigma_q = manual ? s.manual_orientation_sigma : s.orientation_sigma;
+  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
+  P0.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec4::Constant(sigma_q * sigma_q),
+      Vec3::Constant(s.velocity_sigma * s.velocity_sigma),
+      Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
+  state_.reset(T_world_camera, P0);
+  features_.clear();
+
+  // The known features: the board's outer inner corners, exact, with patches from this frame (at
+  // the detected corners, or where the given pose projects them when the board is not detected).
+  const std::vector<Vec3> corners_world = target_.outerCornersWorld();
+  const std::vector<Vec2> detected = board_seen ? outerCornerPixels(target_, corners) : std::vector<Vec2>{};
+  for (size_t k = 0; k < corners_world.size(); ++k) {
+    Vec2 uv;
+    if (board_seen) {
+      uv = detected[k];
+    } else {
+      const Vec3 p_camera = T_world_camera.inverse() * corners_world[k];
+      if (p_camera.z() <= 0) continue;
+      uv = camera_.project(p_camera);
+    }
+    Feature f;
+    if (!makePatchSource(frame.grey, uv, options_.search.source_size, T_world_camera, &f.source)) continue;
+    f.source.normal_world = Vec3(0, 0, -1);  // the board plane z = 0, printed face towards -z
+    f.id = next_id_++;
+    f.known = true;
+    f.offset = state_.append(corners_world[k], Mat3::Zero(), Eigen::MatrixXd::Zero(3, state_.size()));
+    features_.push_back(std::move(f));
+  }
+  running_ = true;
+  ever_started_ = true;
+  frames_unmeasured_ = 0;
+  last_timestamp_ = frame.timestamp;
+  return true;
+}
+
+int MonoslamTracker::measureMap(const Frame& frame) {
+  const ActiveSearchOptions& so = options_.search;
+  const int half = so.patch_size / 2;
+  struct Candidate {
+    size_t index;
+    PointMeasurement h;
+    Mat2 S;
+  };
+  std::vector<Candidate> candidates;
+  visible_ = 0;
+  for (size_t i = 0; i < features_.size(); ++i) {
+    const Feature& f = features_[i];
+    if (f.is_ray) continue;
+    Candidate c{i, {}, {}};
+    if (!predictMeasurement(camera_, state_.r(), state_.q(), state_.x().segment<3>(f.offset), &c.h)) continue;
+    if (!camera_.inImage(c.h.uv_distorted, half + 1)) continue;
+    ++visible_;
+    PointObservation o;
+    o.offset = f.offset;
+    o.h = c.h;
+    c.S = innovationCovariance(state_, {o}, so.pixel_sigma);
+    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(c.S).eigenvalues()(1));
+    if (max_axis > so.max_search_half_axis) continue;
+    candidates.push_back(c);
+  }
+  // The most uncertain features first: they tell the filter the most.
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.S.determinant() > b.S.determinant(); });
+  if (static_cast<int>(candidates.size()) > so.features_per_frame) candidates.resize(so.features_per_frame);
+
+  // Search each selected feature's ellipse with its warped template.
+  const SE3 T_world_camera = state_.T_world_camera();
+  std::vector<PointObservation> searched;
+  std::vector<std::vector<Vec2>> candidates_uv;
+  std::vector<size_t> searched_index;
+  for (const Candidate& c : candidates) {
+    Feature& f = features_[c.index];
+    ++f.attempts;
+    cv::Mat templ;
+    if (!warpTemplate(f.source, camera_, T_world_camera, state_.x().segment<3>(f.offset), c.h.uv_distorted,
+                      so.patch_size, &templ) ||
+        patchStdDev(templ) < so.min_patch_stddev)
+      continue;
+    std::vector<PatchMatch> matches =
+        searchEllipses(frame.grey, templ, {{c.h.uv_distorted, c.S}}, so.sigma_gate, so.min_ncc);
+    if (matches.empty()) continue;
+    // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
+    // equally well and the correct one is the most likely, not the best scoring.
+    const Mat2 S_inv = c.S.inverse();
+    auto distance = [&](const PatchMatch& m) {
+      const Vec2 d = m.uv - c.h.uv_distorted;
+      return d.dot(S_inv * d);
+    };
+    std::sort(matches.begin(), matches.end(),
+              [&](const PatchMatch& a, const PatchMatch& b) { return distance(a) < distance(b); });
+    if (static_cast<int>(matches.size()) > so.max_candidates) matches.resize(so.max_candidates);
+    PointObservation o;
+    o.offset = f.offset;
+    o.h = c.h;
+    searched.push_back(o);
+    candidates_uv.emplace_back();
+    for (const PatchMatch& m : matches) candidates_uv.back().push_back(m.uv);
+    searched_index.push_back(c.index);
+  }
+  if (searched.empty()) return 0;
+
+  // The jointly compatible choice among the candidates, then one update.
+  std::vector<Vec2> predicted;
+  for (const PointObservation& o : searched) predicted.push_back(o.h.uv_distorted);
+  const std::vector<int> choice = jointCompatibleAssociation(
+      predicted, innovationCovariance(state_, searched, so.pixel_sigma), candidates_uv, so.joint_gate);
+  std::vector<PointObservation> observations;
+  for (size_t k = 0; k < searched.size(); ++k) {
+    if (choice[k] < 0) continue;
+    searched[k].z = candidates_uv[k][choice[k]];
+    observations.push_back(searched[k]);
+    ++features_[searched_index[k]].successes;
+  }
+  batchUpdate(state_, observations, so.pixel_sigma);
+  return static_cast<int>(observations.size());
+}
+
+void MonoslamTracker::removeFeature(size_t index) {
+  const int offset = features_[index].offset;
+  const int dim = features_[index].is_ray ? 6 : 3;
+  state_.remove(offset, dim);
+  for (Feature& f : features_)
+    if (f.offset > offset) f.offset -= dim;
+  features_.erase(features_.begin() + static_cast<long>(index));
+}
+
+void MonoslamTracker::updateRays(const Frame& frame) {
+  const FeatureInitOptions& fo = options_.feature_init;
+  for (size_t i = 0; i < features_.size();) {
+    Feature& f = features_[i];
+    if (!f.is_ray) {
+      ++i;
+      continue;
+    }
+    ++f.ray_frames;
+    updateDepthParticles(state_, f.offset, camera_, frame.grey, f.ray_template, options_.search,
+                         fo.prune_threshold, &f.particles);
+    const double mean = f.particles.mean(), stddev = f.particles.stddev();
+    if (f.particles.size() >= 1 && stddev < fo.promote_ratio * mean) {
+      // Particles are spaced (max - min)/(n - 1) apart: add that quantisation to the variance.
+      const double spacing = (fo.max_depth - fo.min_depth) / (fo.particles - 1);
+      const int ray_offset = f.offset;
+      const int point_offset = promoteRay(state_, ray_offset, mean, stddev * stddev + spacing * spacing / 12);
+      for (Feature& g : features_)
+        if (g.offset > ray_offset) g.offset -= 6;
+      f.offset = point_offset;
+      f.is_ray = false;
+      f.particles = DepthParticles();
+      ++i;
+    } else if (f.particles.size() < fo.min_particles || f.ray_frames > fo.max_frames) {
+      removeFeature(i);
+    } else {
+      ++i;
+    }
+  }
+}
+
+void MonoslamTracker::manageMap(const Frame& frame) {
+  const MapManagementOptions& mo = options_.map;
+  for (size_t i = 0; i < features_.size();) {
+    const Feature& f = features_[i];
+    if (!f.is_ray && f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts)
+      removeFeature(i);
+    else
+      ++i;
+  }
+
+  const FeatureInitOptions& fo = options_.feature_init;
+  const int rays = static_cast<int>(std::count_if(features_.begin(), features_.end(),
+                                                  [](const Feature& f) { return f.is_ray; }));
+  if (visible_ >= fo.min_visible || rays >= fo.max_initialising ||
+      static_cast<int>(features_.size()) >= mo.max_features)
+    return;
+  std::vector<Vec2> occupied;
+  for (const Feature& f : features_) {
+    const Vec3 y = f.is_ray ? Vec3(state_.x().segment<3>(f.offset) + f.particles.mean() * state_.x().segment<3>(f.offset + 3))
+                            : Vec3(state_.x().segment<3>(f.offset));
+    PointMeasurement m;
+    if (predictMeasurement(camera_, state_.r(), state_.q(), y, &m)) occupied.push_back(m.uv_distorted);
+  }
+  Vec2 uv;
+  const int margin = options_.search.source_size / 2 + 1;
+  if (!findCornerInFreeBox(frame.grey, occupied, fo, margin, rng_, &uv)) return;
+  Feature f;
+  if (!makePatchSource(frame.grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||
+      !sourceTemplate(f.source, options_.search.patch_size, &f.ray_template) ||
+      patchStdDev(f.ray_template) < options_.search.min_patch_stddev)
+    return;
+  f.id = next_id_++;
+  f.is_ray = true;
+  f.offset = appendRay(state_, camera_, uv, options_.search.pixel_sigma);
+  f.particles = uniformParticles(fo.particles, fo.min_depth, fo.max_depth);
+  features_.push_back(std::move(f));
+}
+
+std::string MonoslamTracker::divergence() const {
+  const HealthOptions& ho = options_.health;
+  if (!state_.x().allFinite() || !state_.P().allFinite()) return "diverged: state or covariance not finite";
+  if ((state_.P().diagonal().array() < -1e-9).any()) return "diverged: negative variance";
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 13, 13>> camera_eig(
+      state_.P().topLeftCorner<13, 13>(), Eigen::EigenvaluesOnly);
+  if (camera_eig.eigenvalues()(0) < -1e-9 * std::max(1.0, camera_eig.eigenvalues()(12)))
+    return "diverged: camera covariance not positive semi-definite";
+  const double position_sigma = std::sqrt(
+      Eigen::SelfAdjointEigenSolver<Mat3>(state_.P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly).eigenvalues()(2));
+  if (position_sigma > ho.max_position_sigma)
+    return "diverged: camera position std " + fixed(position_sigma, 2) + " m";
+  if (state_.v().norm() > ho.max_speed) return "diverged: speed " + fixed(state_.v().norm(), 1) + " m/s";
+  if (state_.w().norm() > ho.max_angular_speed)
+    return "diverged: angular speed " + fixed(state_.w().norm(), 1) + " rad/s";
+  if (frames_unmeasured_ >= ho.max_frames_unmeasured)
+    return "no feature matched for " + std::to_string(frames_unmeasured_) + " frames";
+  return "";
+}
+
+FrameResult MonoslamTracker::track(const Frame& frame) {
+  FrameResult result;
+  if (!running_) {
+    std::string reason;
+    if (!start(frame, &reason)) {
+      result.status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
+      result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
+      return result;
+    }
+    manageMap(frame);
+  } else {
+    double dt = frame.timestamp - last_timestamp_;
+    if (!(dt > 0)) dt = options_.motion.default_dt;
+    last_timestamp_ = frame.timestamp;
+    predict(state_, dt, options_.motion);
+    result.measured = measureMap(frame);
+    frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
+    updateRays(frame);
+    manageMap(frame);
+    const std::string why = divergence();
+    if (!why.empty()) {
+      running_ = false;
+      lost_reason_ = why;
+      features_.clear();
+      result.status = TrackStatus::Lost;
+      result.reason = why;
+      return result;
+    }
+  }
+  result.status = TrackStatus::Ekf;
+  result.T_world_camera = state_.T_world_camera();
+  result.features = static_cast<int>(features_.size());
+  if (result.measured == 0 && frames_unmeasured_ > 0) result.reason = "no feature matched: prediction only";
+  return result;
+}
+
+std::vector<MapPoint> MonoslamTracker::mapPoints() const {
+  std::vector<MapPoint> points;
+  if (!running_) return points;
+  for (const Feature& f : features_) {
+    if (f.is_ray) continue;
+    MapPoint p;
+    p.id = f.id;
+    p.p_world = state_.x().segment<3>(f.offset);
+    p.observations = f.successes;
+    // The ellipsoid's largest semi-axis: sqrt of the largest eigenvalue of the point's covariance.
+    const Mat3 P_y = state_.P().block<3, 3>(f.offset, f.offset);
+    p.sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3>(P_y, Eigen::EigenvaluesOnly).eigenvalues()(2)));
+    points.push_back(p);
+  }
+  return points;
+}
+
+std::unique_ptr<Tracker> makeMonoslamTracker(const TrackerContext& context) {
+  return std::make_unique<MonoslamTracker>(context);
+}
+
+}  // namespace slamcmp

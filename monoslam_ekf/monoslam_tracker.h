@@ -1,0 +1,69 @@
+#pragma once
+// The MonoSLAM EKF back-end (thesis chapter 2, SPEC section 5) behind the Tracker interface.
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/tracker.h"
+#include "monoslam_ekf/ekf_state.h"
+#include "monoslam_ekf/feature_ray.h"
+#include "monoslam_ekf/monoslam_options.h"
+#include "monoslam_ekf/patch_warp.h"
+
+namespace slamcmp {
+
+class MonoslamTracker : public Tracker {
+ public:
+  // Throws InputError without a camera or a target, or without T_world_camera_init for
+  // groundtruth/manual initialisation, or for bad options.
+  explicit MonoslamTracker(const TrackerContext& context);
+
+  std::string name() const override { return "monoslam"; }
+  FrameResult track(const Frame& frame) override;
+  std::vector<MapPoint> mapPoints() const override;
+  nlohmann::json options() const override;
+  // Throws InputError when the filter never started: with --init board, no frame showed the board.
+  void finish() override;
+
+ private:
+  struct Feature {
+    int id = 0;
+    int offset = 0;        // state offset: 3 values for a point, 6 for a ray
+    bool is_ray = false;   // initialising: ray plus depth particles
+    bool known = false;    // a board corner with zero uncertainty
+    PatchSource source;
+    cv::Mat ray_template;  // the unwarped first-view template, for the particle search
+    DepthParticles particles;
+    int ray_frames = 0;
+    int attempts = 0, successes = 0;
+  };
+
+  bool start(const Frame& frame, std::string* reason);
+  int measureMap(const Frame& frame);
+  void updateRays(const Frame& frame);
+  void manageMap(const Frame& frame);
+  std::string divergence() const;  // why the filter cannot be trusted, "" if it can
+  void removeFeature(size_t index);
+
+  CameraModel camera_;
+  ChessboardTarget target_;
+  MonoslamOptions options_;
+  InitSource init_;
+  std::optional<SE3> T_world_camera_init_;
+
+  EkfState state_;
+  std::vector<Feature> features_;
+  bool running_ = false;
+  bool ever_started_ = false;
+  std::string lost_reason_;
+  double last_timestamp_ = 0;
+  int frames_unmeasured_ = 0;
+  int visible_ = 0;  // map points predicted in the image this frame
+  int next_id_ = 0;
+  std::mt19937 rng_{0};
+};
+
+std::unique_ptr<Tracker> makeMonoslamTracker(const TrackerContext& context);
+
+}  // namespace slamcmp

@@ -1,0 +1,162 @@
+// Tracking regressions for the MonoSLAM back-end on shortened sequences. Thresholds are the issue's
+// targets: synthetic tv1 every frame tracked with ATE RMSE (no alignment) under 1 cm; the real
+// vamr_checkerboard at least 95 % tracked with ATE RMSE under 3 cm.
+#include "monoslam_ekf/monoslam_tracker.h"
+
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/sequence.h"
+#include "datasets/synth_sequence.h"
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+struct RunResult {
+  int frames = 0, tracked = 0;
+  std::vector<double> error_m;  // per tracked frame: |t_gt - t_est|
+  std::vector<FrameResult> results;
+  double ateRmse() const {
+    double sum = 0;
+    for (double e : error_m) sum += e * e;
+    return error_m.empty() ? 1e9 : std::sqrt(sum / error_m.size());
+  }
+};
+
+// Runs the tracker over the sequence; ground truth is matched by frame index (same timestamps).
+RunResult runTracker(const std::string& path, InitSource init, const std::optional<SE3>& T_init,
+                     int max_frames = -1) {
+  Sequence seq = openSequence(path);
+  TrackerContext context;
+  context.camera = seq.camera;
+  context.target = seq.target;
+  context.image_size = seq.image_size;
+  context.init = init;
+  context.T_world_camera_init = T_init;
+  MonoslamTracker tracker(context);
+  RunResult run;
+  Frame frame;
+  while ((max_frames < 0 || run.frames < max_frames) && seq.frames->next(&frame)) {
+    const FrameResult r = tracker.track(frame);
+    run.results.push_back(r);
+    ++run.frames;
+    if (!r.T_world_camera) continue;
+    ++run.tracked;
+    if (seq.groundtruth)
+      run.error_m.push_back((r.T_world_camera->t() - (*seq.groundtruth)[frame.index].T_world_camera.t()).norm());
+  }
+  return run;
+}
+
+// 70 frames of tv1 rendered once for the suite (one sample per pixel: fast, still textured).
+class MonoslamOnTv1 : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new test::TempDir();
+    SynthOptions options;
+    options.preset = "tv1";
+    options.frames = 70;
+    options.supersample = 1;
+    writeSyntheticSequence(options, dir_->path());
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static SE3 groundTruthStart() { return openSequence(dir_->path()).groundtruth->front().T_world_camera; }
+  static test::TempDir* dir_;
+};
+test::TempDir* MonoslamOnTv1::dir_ = nullptr;
+
+TEST_F(MonoslamOnTv1, BoardStartTracksEveryFrameUnderOneCentimetre) {
+  const RunResult run = runTracker(dir_->path(), InitSource::Board, std::nullopt);
+  EXPECT_EQ(run.tracked, run.frames);
+  EXPECT_LT(run.ateRmse(), 0.01);
+  for (const FrameResult& r : run.results) EXPECT_LE(r.measured, 12);
+  EXPECT_GT(run.results.back().measured, 5);
+}
+
+TEST_F(MonoslamOnTv1, GroundTruthStartTracksEveryFrameUnderOneCentimetre) {
+  const RunResult run = runTracker(dir_->path(), InitSource::GroundTruth, groundTruthStart());
+  EXPECT_EQ(run.tracked, run.frames);
+  EXPECT_LT(run.ateRmse(), 0.01);
+}
+
+// A hand-measured start off by 1 cm and 1 degree: the board corners pull the estimate back; the
+// error stays bounded (under 3 cm at any frame) and has settled under 1.5 cm over the last 20 frames.
+TEST_F(MonoslamOnTv1, SmallManualStartErrorStaysBounded) {
+  const SE3 perturbation = SE3::fromRotvec(Vec3(1.0, 0.0, 0.0) * M_PI / 180.0, Vec3(0.01, 0.0, 0.0));
+  const RunResult run = runTracker(dir_->path(), InitSource::Manual, groundTruthStart() * perturbation);
+  ASSERT_EQ(run.tracked, run.frames);
+  double late = 0;
+  for (size_t i = 0; i < run.error_m.size(); ++i) {
+    EXPECT_LT(run.error_m[i], 0.03) << "frame " << i;
+    if (i + 20 >= run.error_m.size()) late = std::max(late, run.error_m[i]);
+  }
+  EXPECT_LT(late, 0.015);
+}
+
+TEST_F(MonoslamOnTv1, MapPointsCarryTheirUncertainty) {
+  Sequence seq = openSequence(dir_->path());
+  TrackerContext context;
+  context.camera = seq.camera;
+  context.target = seq.target;
+  MonoslamTracker tracker(context);
+  Frame frame;
+  for (int i = 0; i < 30 && seq.frames->next(&frame); ++i) tracker.track(frame);
+  const std::vector<MapPoint> points = tracker.mapPoints();
+  ASSERT_GT(points.size(), 4u);
+  int known = 0;
+  for (const MapPoint& p : points) {
+    EXPECT_GE(p.sigma, 0.0);
+    EXPECT_LT(p.sigma, 0.5);
+    if (p.sigma == 0.0) ++known;  // the board corners: exact
+  }
+  EXPECT_EQ(known, 4);
+  EXPECT_TRUE(tracker.options().contains("search"));
+}
+
+TEST(MonoslamTracker, RealVamrCheckerboardFirst150Frames) {
+  SLAMCMP_REQUIRE_SHARED(shared);
+  const RunResult run = runTracker(shared + "/vamr_checkerboard", InitSource::Board, std::nullopt, 150);
+  EXPECT_GE(run.tracked, 0.95 * run.frames);
+  EXPECT_LT(run.ateRmse(), 0.03);
+}
+
+// Without a board in view the tracker waits, says why, and never reports a pose.
+TEST(MonoslamTracker, NoBoardMeansInitialisingWithAReason) {
+  TrackerContext context;
+  context.camera = CameraModel::fromOpenCV(
+      (cv::Mat_<double>(3, 3) << 500, 0, 319.5, 0, 500, 239.5, 0, 0, 1), cv::Mat::zeros(1, 5, CV_64F), {640, 480});
+  context.target = ChessboardTarget{9, 6, 0.04};
+  MonoslamTracker tracker(context);
+  cv::Mat noise(480, 640, CV_8U);
+  cv::randu(noise, 0, 255);
+  for (int i = 0; i < 3; ++i) {
+    Frame frame;
+    frame.index = i;
+    frame.timestamp = 0.1 * i;
+    frame.grey = noise;
+    const FrameResult r = tracker.track(frame);
+    EXPECT_EQ(r.status, TrackStatus::Initialising);
+    EXPECT_FALSE(r.T_world_camera.has_value());
+    EXPECT_EQ(r.reason, "no board seen");
+  }
+}
+
+TEST(MonoslamTracker, RefusesContextsItCannotWorkWith) {
+  TrackerContext context;
+  EXPECT_THROW(MonoslamTracker{context}, InputError);  // no camera
+  context.camera = CameraModel::fromOpenCV(cv::Mat::eye(3, 3, CV_64F), cv::Mat::zeros(1, 5, CV_64F), {640, 480});
+  EXPECT_THROW(MonoslamTracker{context}, InputError);  // no target
+  context.target = ChessboardTarget{9, 6, 0.04};
+  context.init = InitSource::Manual;
+  EXPECT_THROW(MonoslamTracker{context}, InputError);  // manual without a pose
+}
+
+}  // namespace
+}  // namespace slamcmp
