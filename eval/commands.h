@@ -7,5 +7,9 @@ namespace slamcmp {
 
 void addSynthCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
+void addReproduceCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
+void addCalibrateCommand(CLI::App& app);
 
 }  // namespace slamcmp

@@ -1,0 +1,292 @@
+#include "cslam/cslam_tracker.h"
+
+#include <algorithm>
+
+#include <opencv2/video/tracking.hpp>
+
+#include "core/error.h"
+#include "core/options.h"
+#include "cslam/essential_eight_point.h"
+#include "cslam/pose_refinement.h"
+#include "cslam/triangulation.h"
+
+namespace slamcmp {
+
+void CslamOptions::check() const {
+  if (lk_window_px < 5 || lk_window_px % 2 == 0) throw InputError("cslam.lk_window_px", "must be odd and >= 5");
+  if (lk_levels < 0 || lk_levels > 6) throw InputError("cslam.lk_levels", "must be in [0, 6]");
+  board.check();
+  board_pose.check();
+  features.check();
+  if (!(max_epipolar_error_px > 0)) throw InputError("cslam.max_epipolar_error_px", "must be positive");
+  two_view.check();
+  if (reference_frames < 1) throw InputError("cslam.reference_frames", "must be >= 1");
+  if (min_scale_points < 1) throw InputError("cslam.min_scale_points", "must be >= 1");
+  map_refinement.check();
+  if (!(max_map_error_px > 0)) throw InputError("cslam.max_map_error_px", "must be positive");
+  map.check();
+  if (two_view_init_map_points < 1) throw InputError("cslam.two_view_init_map_points", "must be >= 1");
+  calibration.check();
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTarget& target, cv::Size image_size,
+                           const std::string& mode, const CslamOptions& options)
+    : camera_(std::move(camera)),
+      target_(target),
+      image_size_(image_size),
+      mode_name_(mode.empty() ? "combined" : mode),
+      options_(options),
+      board_(target, options.board),
+      features_(options.features) {
+  if (mode_name_ == "combined") {
+    mode_ = Mode::Combined;
+  } else if (mode_name_ == "calibration") {
+    mode_ = Mode::Calibration;
+  } else if (mode_name_ == "two_view") {
+    mode_ = Mode::TwoView;
+  } else {
+    throw InputError("--mode", "cslam knows combined, calibration and two_view, not '" + mode + "'");
+  }
+  if (camera_) {
+    focal_px_ = 0.5 * (camera_->fx + camera_->fy);
+    map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+  } else {
+    calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
+  }
+}
+
+nlohmann::json CslamTracker::options() const {
+  nlohmann::json j = optionsToJson(options_);
+  j["mode"] = mode_name_;
+  if (calibration_rms_px_) {
+    j["self_calibration"] = {{"fx", camera_->fx}, {"fy", camera_->fy}, {"cx", camera_->cx},
+                             {"cy", camera_->cy}, {"rms_px", *calibration_rms_px_}};
+  }
+  return j;
+}
+
+void CslamTracker::finish() {
+  if (!camera_)
+    throw InputError("", "no camera file and only " + std::to_string(calibrator_->numViews()) +
+                             " distinct board views to self-calibrate from (need " +
+                             std::to_string(options_.calibration.min_views) + "); give --camera");
+  if (mode_ == Mode::Calibration && posed_frames_ == 0)
+    throw InputError("", "the board never appeared, and calibration mode poses frames from the board only");
+}
+
+std::vector<MapPoint> CslamTracker::mapPoints() const { return map_ ? map_->points() : std::vector<MapPoint>{}; }
+
+std::vector<Vec2> CslamTracker::featuresNormalised() const {
+  std::vector<Vec2> xy;
+  xy.reserve(features_.features().size());
+  for (const auto& f : features_.features()) xy.push_back(camera_->undistortPixel(Vec2(f.uv.x, f.uv.y)));
+  return xy;
+}
+
+bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* result) {
+  ++calibration_frames_;
+  const auto corners = board_.find(frame.grey, {}, {}, cv::Size(), 0, nullptr);
+  if (corners) calibrator_->addView(*corners);
+  const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
+  if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
+    if (const auto calibrated = calibrator_->calibrate()) {
+      camera_ = calibrated->camera;
+      calibration_rms_px_ = calibrated->rms_px;
+      focal_px_ = 0.5 * (camera_->fx + camera_->fy);
+      map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+      calibrator_.reset();
+      return true;
+    }
+  }
+  result->status = TrackStatus::Initialising;
+  result->reason = "gathering board views for self-calibration (" + std::to_string(calibrator_->numViews()) +
+                   " of " + std::to_string(options_.calibration.min_views) + ")";
+  return false;
+}
+
+std::optional<SE3> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResult* result) {
+  const cv::Size window(options_.lk_window_px, options_.lk_window_px);
+  // A full search costs up to seconds on a cluttered frame with part of the board or none: skip it
+  // while the last pose says the board is not well inside the image.
+  bool board_expected = true;
+  if (last_pose_) {
+    const SE3 T_camera_world = last_pose_->inverse();
+    for (const Vec3& p : target_.outerCornersWorld()) {
+      const Vec3 p_camera = T_camera_world * p;
+      board_expected = board_expected && p_camera.z() > 0 &&
+                       camera_->inImage(camera_->project(p_camera), options_.board.search_margin_px);
+    }
+  }
+  const auto corners =
+      board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected);
+  if (!corners) return std::nullopt;
+  std::vector<Vec2> xy;
+  xy.reserve(corners->size());
+  for (const auto& c : *corners) xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
+  const BoardPose pose = boardPose(target_.cornersWorld(), xy, focal_px_, options_.board_pose);
+  result->measured = static_cast<int>(corners->size());
+  return pose.T_camera_board.inverse();
+}
+
+void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, const std::vector<Vec2>& xy) {
+  if (history_.empty()) return;
+  const PosedFrame& prev = history_.back();
+  const SE3 T_cur_prev = T_world_camera.inverse() * prev.T_world_camera;
+  if (T_cur_prev.t().norm() < 1e-9) return;  // no baseline: no epipolar line
+  const Mat3 E = skew(T_cur_prev.t().normalized()) * T_cur_prev.R();
+  const double max2 = std::pow(options_.max_epipolar_error_px / focal_px_, 2);
+  const auto& features = features_.features();
+  std::vector<char> keep(features.size(), 1);
+  for (size_t i = 0; i < features.size(); ++i) {
+    const auto it = prev.xy_normalised.find(features[i].id);
+    if (it != prev.xy_normalised.end()) keep[i] = sampsonErrorSquared(E, it->second, xy[i]) <= max2;
+  }
+  features_.keepOnly(keep);
+}
+
+std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
+  const auto& features = features_.features();
+  // Reference: the oldest recent posed frame (widest baseline) sharing enough features.
+  const PosedFrame* ref = nullptr;
+  std::vector<int> common;  // indices into features
+  const size_t first = history_.size() > static_cast<size_t>(options_.reference_frames)
+                           ? history_.size() - options_.reference_frames
+                           : 0;
+  for (size_t h = first; h < history_.size() && !ref; ++h) {
+    common.clear();
+    for (size_t i = 0; i < features.size(); ++i)
+      if (history_[h].xy_normalised.count(features[i].id)) common.push_back(static_cast<int>(i));
+    if (static_cast<int>(common.size()) >= options_.two_view.min_inliers) ref = &history_[h];
+  }
+  if (!ref) {
+    result->reason = "no recent posed frame shares enough features for two-view motion";
+    return std::nullopt;
+  }
+  std::vector<Vec2> xy_ref, xy_cur;
+  for (int i : common) xy_ref.push_back(ref->xy_normalised.at(features[i].id)), xy_cur.push_back(xy[i]);
+  const TwoViewResult motion = estimateTwoViewMotion(xy_ref, xy_cur, focal_px_, options_.two_view);
+
+  // Map points seen now: their positions fix the scale and refine the pose.
+  std::vector<Vec3> p_world;
+  std::vector<Vec2> xy_map;
+  for (size_t i = 0; i < features.size(); ++i)
+    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
+
+  SE3 T_cur_ref;
+  if (motion.ok) {
+    std::vector<char> keep(features.size(), 1);
+    for (size_t k = 0; k < common.size(); ++k) keep[common[k]] = motion.inliers[k];
+    // Metric scale (the map): depth of each map point in the reference camera over its depth
+    // triangulated with the unit baseline.
+    const SE3 T_ref_cur_unit = motion.T_b_a.inverse();
+    const SE3 T_ref_world = ref->T_world_camera.inverse();
+    std::vector<double> ratios;
+    for (size_t k = 0; k < common.size(); ++k) {
+      if (!motion.inliers[k]) continue;
+      const auto p = map_->position(features[common[k]].id);
+      if (!p) continue;
+      const Ray ray_ref{Vec3::Zero(), xy_ref[k].homogeneous().normalized()};
+      const Ray ray_cur = rayFromObservation(T_ref_cur_unit, xy_cur[k]);
+      Vec3 a, b;
+      if (!closestPointsOfRays(ray_ref, ray_cur, &a, &b)) continue;
+      const double depth_unit = 0.5 * (a + b).z();
+      const double depth_map = (T_ref_world * *p).z();
+      if (depth_unit > 0 && depth_map > 0) ratios.push_back(depth_map / depth_unit);
+    }
+    if (static_cast<int>(ratios.size()) < options_.min_scale_points) {
+      result->reason = "too few map points for the two-view scale (" + std::to_string(ratios.size()) + ")";
+      return std::nullopt;
+    }
+    T_cur_ref = SE3(motion.T_b_a.R(), median(ratios) * motion.T_b_a.t());
+    features_.keepOnly(keep);  // epipolar outliers
+    result->measured = motion.num_inliers;
+  } else if (motion.degenerate && static_cast<int>(p_world.size()) >= options_.min_scale_points) {
+    // Degenerate (tiny baseline, pure rotation): the rotation stands, the translation is left to
+    // the map's points.
+    T_cur_ref = SE3(motion.T_b_a.R(), Vec3::Zero());
+    result->measured = static_cast<int>(p_world.size());
+  } else {
+    result->reason = motion.reason;
+    return std::nullopt;
+  }
+  SE3 T_world_cur = ref->T_world_camera * T_cur_ref.inverse();
+  if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
+    const auto refined = refinePose(T_world_cur.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
+    const double err = median(reprojectionErrorsPx(refined.T_camera_world, p_world, xy_map, focal_px_));
+    if (err > options_.max_map_error_px) {
+      result->reason = "two-view pose disagrees with the map (median " + std::to_string(err) + " px)";
+      return std::nullopt;
+    }
+    T_world_cur = refined.T_camera_world.inverse();
+  }
+  return T_world_cur;
+}
+
+FrameResult CslamTracker::track(const Frame& frame) {
+  FrameResult result;
+  if (!camera_ && !gatherCalibrationViews(frame, &result)) return result;
+
+  const cv::Size window(options_.lk_window_px, options_.lk_window_px);
+  cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
+
+  std::optional<SE3> T_world_camera;
+  const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
+  if (use_board && (T_world_camera = boardPoseInFrame(frame.grey, &result))) result.status = TrackStatus::Board;
+
+  if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
+  std::vector<Vec2> xy = featuresNormalised();
+
+  if (T_world_camera) {
+    dropEpipolarOutliers(*T_world_camera, xy);
+  } else if (mode_ == Mode::Calibration) {
+    result.reason = "no board";
+  } else if (history_.empty()) {
+    result.reason = "no board yet: the world frame is not set";
+  } else if ((T_world_camera = twoViewPose(xy, &result))) {
+    result.status = TrackStatus::TwoView;
+  }
+
+  features_.replenish(frame.grey);
+  if (T_world_camera) {
+    xy = featuresNormalised();
+    PosedFrame posed{frame.index, *T_world_camera, {}};
+    for (size_t i = 0; i < xy.size(); ++i) {
+      const int id = features_.features()[i].id;
+      map_->addObservation(id, *T_world_camera, xy[i]);
+      posed.xy_normalised.emplace(id, xy[i]);
+    }
+    history_.push_back(std::move(posed));
+    while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
+    if (mode_ == Mode::TwoView && map_->numUsable() >= options_.two_view_init_map_points)
+      two_view_board_phase_ = false;
+    result.T_world_camera = T_world_camera;
+    result.reason.clear();
+    ++posed_frames_;
+  }
+  last_pose_ = T_world_camera;
+  if (!T_world_camera) result.status = TrackStatus::Lost;
+  result.features = static_cast<int>(features_.features().size());
+  std::swap(pyramid_prev_, pyramid_);
+  return result;
+}
+
+std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context) {
+  if (!context.target)
+    throw InputError("--target", "cslam needs the chessboard target (target.yaml beside the sequence or --target)");
+  CslamOptions options;
+  loadOptions(context.options, context.options_source, options);
+  cv::Size size = context.image_size;
+  if (context.camera) size = cv::Size(context.camera->width, context.camera->height);
+  return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options);
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,122 @@
+#pragma once
+// The CSLAM back-end (thesis Algorithm 3.2): per frame, the board pose when the board is seen,
+// else two-view motion from the last posed frames scaled by the triangulated map; features tracked
+// across the whole image and triangulated into the map from every posed frame.
+//
+// Modes: "calibration" (board only; frames without it are lost), "two_view" (the board only until
+// the map is built, then chained two-view motion), "combined" (default: board when seen, two-view
+// otherwise). Without a camera the first frames gather board views for self-calibration (status
+// initialising).
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/tracker.h"
+#include "cslam/board_corner_tracker.h"
+#include "cslam/feature_map.h"
+#include "cslam/feature_tracker.h"
+#include "cslam/homography_pose.h"
+#include "cslam/self_calibration.h"
+#include "cslam/two_view_motion.h"
+
+namespace slamcmp {
+
+struct CslamOptions {
+  int lk_window_px = 13;  // Lucas-Kanade window side (board corners and features)
+  int lk_levels = 3;      // pyramid levels above the image
+  BoardCornerTrackerOptions board;
+  BoardPoseOptions board_pose;
+  FeatureTrackerOptions features;
+  double max_epipolar_error_px = 1.0;  // board frames: features farther from their epipolar line are dropped
+  TwoViewOptions two_view;
+  int reference_frames = 8;      // two-view reference: the oldest of the last this many posed frames
+  int min_scale_points = 8;      // map points needed for the two-view metric scale
+  PoseRefinementOptions map_refinement{10, 2.0};  // two-view pose refined on the map's points
+  double max_map_error_px = 2.0;  // a two-view pose whose median map reprojection error exceeds this is lost
+  FeatureMapOptions map;
+  int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
+  SelfCalibrationOptions calibration;
+  template <class V>
+  void visit(V& v) {
+    v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels (board corners and features)");
+    v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
+    v("board", board, "finding the board: tracking, confirmation, full search");
+    v("board_pose", board_pose, "pose from the board homography (thesis eqs. 3.1 to 3.17)");
+    v("features", features, "Shi-Tomasi features and their Lucas-Kanade tracking");
+    v("max_epipolar_error_px", max_epipolar_error_px,
+      "in board frames, features farther than this (Sampson, pixels) from their epipolar line are dropped");
+    v("two_view", two_view, "two-view motion (thesis eqs. 3.27 to 3.37)");
+    v("reference_frames", reference_frames, "two-view reference: the oldest of the last this many posed frames");
+    v("min_scale_points", min_scale_points, "map points needed for the metric scale of a two-view motion");
+    v("map_refinement", map_refinement, "refinement of a two-view pose on the map's points");
+    v("max_map_error_px", max_map_error_px,
+      "a two-view pose whose median reprojection error of map points exceeds this is lost, pixels");
+    v("map", map, "triangulation of the features (thesis Algorithm 3.1)");
+    v("two_view_init_map_points", two_view_init_map_points,
+      "two_view mode: the board sets the world frame and scale until the map holds this many points");
+    v("calibration", calibration, "self-calibration when no camera file is given");
+  }
+  void check() const;
+};
+
+class CslamTracker : public Tracker {
+ public:
+  // mode: "combined" (also ""), "calibration" or "two_view".
+  CslamTracker(std::optional<CameraModel> camera, const ChessboardTarget& target, cv::Size image_size,
+               const std::string& mode, const CslamOptions& options);
+
+  std::string name() const override { return "cslam"; }
+  FrameResult track(const Frame& frame) override;
+  std::vector<MapPoint> mapPoints() const override;
+  nlohmann::json options() const override;
+  // Throws InputError when the run was impossible: calibration mode and the board never posed a
+  // frame, or no camera and too few board views to self-calibrate.
+  void finish() override;
+
+  // The camera in use (given, or self-calibrated); empty while calibrating.
+  const std::optional<CameraModel>& camera() const { return camera_; }
+
+ private:
+  enum class Mode { Combined, Calibration, TwoView };
+  struct PosedFrame {
+    int index = 0;
+    SE3 T_world_camera;
+    std::unordered_map<int, Vec2> xy_normalised;  // feature id -> undistorted normalised coordinates
+  };
+
+  bool gatherCalibrationViews(const Frame& frame, FrameResult* result);
+  std::optional<SE3> boardPoseInFrame(const cv::Mat& grey, FrameResult* result);
+  std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
+  void dropEpipolarOutliers(const SE3& T_world_camera, const std::vector<Vec2>& xy);
+  std::vector<Vec2> featuresNormalised() const;
+
+  std::optional<CameraModel> camera_;
+  ChessboardTarget target_;
+  cv::Size image_size_;
+  Mode mode_;
+  std::string mode_name_;
+  CslamOptions options_;
+  double focal_px_ = 0;
+
+  BoardCornerTracker board_;
+  FeatureTracker features_;
+  std::unique_ptr<FeatureMap> map_;
+  std::unique_ptr<SelfCalibrator> calibrator_;
+  int calibration_frames_ = 0;
+  std::optional<double> calibration_rms_px_;
+
+  std::vector<cv::Mat> pyramid_prev_, pyramid_;
+  std::optional<SE3> last_pose_;    // the previous frame's, if it had one
+  std::deque<PosedFrame> history_;  // the last posed frames, oldest first
+  bool two_view_board_phase_ = true;
+  int posed_frames_ = 0;
+};
+
+// The factory's entry (eval/tracker_factory.cc): options from context.options, mode from
+// context.mode; throws InputError for a missing target or a bad mode or option.
+std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context);
+
+}  // namespace slamcmp

@@ -1,0 +1,75 @@
+#include "cslam/feature_map.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+void FeatureMapOptions::check() const {
+  if (method != "least_squares" && method != "midpoint_average")
+    throw InputError("map.method", "must be least_squares or midpoint_average, got '" + method + "'");
+  if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw InputError("map.min_parallax_deg", "must be in [0, 90)");
+  if (!(max_ray_error_px > 0)) throw InputError("map.max_ray_error_px", "must be positive");
+}
+
+FeatureMap::FeatureMap(const FeatureMapOptions& options, double focal_px)
+    : options_(options), focal_px_(focal_px), min_parallax_cos_(std::cos(options.min_parallax_deg * M_PI / 180)) {}
+
+void FeatureMap::addObservation(int id, const SE3& T_world_camera, const Vec2& xy_normalised) {
+  Entry& e = entries_[id];
+  const Ray ray = rayFromObservation(T_world_camera, xy_normalised);
+  if (e.observations == 0) e.first_direction = ray.direction;
+  e.max_parallax_cos = std::min(e.max_parallax_cos, e.first_direction.dot(ray.direction));
+  ++e.observations;
+  e.least_squares.add(ray);
+  if (options_.method == "midpoint_average") {
+    // Algorithm 3.1, one new ray at a time: its closest-point midpoints with every earlier ray.
+    for (const Ray& earlier : e.rays) {
+      Vec3 r1, r2;
+      if (!closestPointsOfRays(earlier, ray, &r1, &r2)) continue;
+      e.midpoint_total += 0.5 * (r1 + r2);
+      ++e.midpoint_weight;
+    }
+    e.rays.push_back(ray);
+  }
+  update(e, ray);
+}
+
+void FeatureMap::update(Entry& e, const Ray& newest) const {
+  e.usable = false;
+  if (e.max_parallax_cos > min_parallax_cos_) return;
+  if (options_.method == "midpoint_average") {
+    if (e.midpoint_weight == 0) return;
+    e.p_world = e.midpoint_total / e.midpoint_weight;
+  } else {
+    e.p_world = e.least_squares.solve();
+    if (!e.p_world) return;
+  }
+  const double depth = (*e.p_world - newest.origin).dot(newest.direction);
+  if (depth <= 0) return;
+  e.usable = focal_px_ * e.least_squares.rmsDistance(*e.p_world) / depth <= options_.max_ray_error_px;
+}
+
+std::optional<Vec3> FeatureMap::position(int id) const {
+  const auto it = entries_.find(id);
+  if (it == entries_.end() || !it->second.usable) return std::nullopt;
+  return it->second.p_world;
+}
+
+int FeatureMap::numUsable() const {
+  int n = 0;
+  for (const auto& [id, e] : entries_) n += e.usable;
+  return n;
+}
+
+std::vector<MapPoint> FeatureMap::points() const {
+  std::vector<MapPoint> out;
+  for (const auto& [id, e] : entries_)
+    if (e.usable) out.push_back({id, *e.p_world, e.observations, -1});
+  std::sort(out.begin(), out.end(), [](const MapPoint& a, const MapPoint& b) { return a.id < b.id; });
+  return out;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,61 @@
+#pragma once
+// Shi-Tomasi features over the whole image, tracked frame to frame by pyramidal Lucas-Kanade
+// (thesis eqs. 3.18 to 3.26, Bouguet's algorithm) with a forward-backward check, and replenished
+// in empty image regions when too few survive.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace slamcmp {
+
+struct FeatureTrackerOptions {
+  int max_features = 150;         // detected up to this many
+  int min_features = 90;          // replenish when fewer survive
+  double quality_level = 0.01;    // Shi-Tomasi: fraction of the best corner's response
+  double min_distance_px = 12;    // between features (also the mask radius around existing ones)
+  int block_size = 5;             // Shi-Tomasi window, pixels
+  double max_forward_backward_px = 0.5;  // tracked back, a feature must land this close to its start
+  int border_px = 8;              // features this close to the image border are dropped
+  template <class V>
+  void visit(V& v) {
+    v("max_features", max_features, "Shi-Tomasi features held at most");
+    v("min_features", min_features, "new features are detected when fewer than this survive");
+    v("quality_level", quality_level, "Shi-Tomasi quality, fraction of the strongest corner response");
+    v("min_distance_px", min_distance_px, "minimum distance between features, pixels");
+    v("block_size", block_size, "Shi-Tomasi window side, pixels");
+    v("max_forward_backward_px", max_forward_backward_px,
+      "forward-backward check: a feature tracked back must land this close to where it was, pixels");
+    v("border_px", border_px, "features closer to the image border are dropped, pixels");
+  }
+  void check() const;
+};
+
+struct Feature {
+  int id = 0;
+  cv::Point2f uv;  // distorted pixels in the current frame
+};
+
+class FeatureTracker {
+ public:
+  explicit FeatureTracker(const FeatureTrackerOptions& options);
+
+  // Moves the features from the previous pyramid to the current one; features failing LK, the
+  // forward-backward check or the border are dropped.
+  void track(const std::vector<cv::Mat>& pyramid_prev, const std::vector<cv::Mat>& pyramid,
+             cv::Size lk_window, int lk_levels);
+  // Drops the features whose id is flagged (e.g. epipolar outliers): keep[i] for features()[i].
+  void keepOnly(const std::vector<char>& keep);
+  // Detects new features away from the existing ones when fewer than min_features are held.
+  // Returns the number added.
+  int replenish(const cv::Mat& grey);
+  void clear() { features_.clear(); }
+
+  const std::vector<Feature>& features() const { return features_; }
+
+ private:
+  FeatureTrackerOptions options_;
+  std::vector<Feature> features_;
+  int next_id_ = 0;
+};
+
+}  // namespace slamcmp

@@ -1,0 +1,38 @@
+#pragma once
+// Levenberg-Marquardt over the 6 pose parameters: minimises the reprojection error of known 3D
+// points, optionally with Huber weights (map points may hold outliers; board corners do not).
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace slamcmp {
+
+struct PoseRefinementOptions {
+  int max_iterations = 10;
+  double huber_px = 0.0;  // Huber threshold in pixels; 0 = plain least squares
+  template <class V>
+  void visit(V& v) {
+    v("max_iterations", max_iterations, "Levenberg-Marquardt iterations at most");
+    v("huber_px", huber_px, "Huber threshold on the reprojection error, pixels; 0 = plain least squares");
+  }
+  void check() const;
+};
+
+struct PoseRefinementResult {
+  SE3 T_camera_world;
+  double rms_px = 0;  // reprojection error after refinement (unweighted)
+  int iterations = 0;
+};
+
+// p_world[i] projects to xy_normalised[i] (undistorted normalised coordinates). focal_px scales
+// normalised residuals to pixels (for the Huber threshold and the reported error). Points behind
+// the camera are ignored. Needs at least 3 points in front.
+PoseRefinementResult refinePose(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
+                                const std::vector<Vec2>& xy_normalised, double focal_px,
+                                const PoseRefinementOptions& options);
+
+// Reprojection errors in pixels (normalised residual times focal_px); +inf for a point behind.
+std::vector<double> reprojectionErrorsPx(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
+                                         const std::vector<Vec2>& xy_normalised, double focal_px);
+
+}  // namespace slamcmp

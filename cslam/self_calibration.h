@@ -1,0 +1,66 @@
+#pragma once
+// Self-calibration from the board (Zhang 2000 via cv::calibrateCamera): board views are gathered
+// as they come, keeping only views that differ from all kept ones (corner positions, board size
+// and tilt in the image), then intrinsics and distortion are estimated from them.
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/sequence.h"
+#include "core/target.h"
+
+namespace slamcmp {
+
+struct SelfCalibrationOptions {
+  int max_views = 25;               // calibrate with at most this many views
+  int min_views = 8;                // views needed before calibrating
+  int max_frames = 150;             // frames to gather views from before calibrating with what is there
+  double min_view_change = 0.03;    // a view is new when its corners moved by this (RMS) fraction of the image diagonal
+  int distortion_terms = 5;         // 4 (k1 k2 p1 p2) or 5 (and k3)
+  double max_rms_px = 1.5;          // a calibration fitting worse is refused (e.g. a wrong board size)
+  template <class V>
+  void visit(V& v) {
+    v("max_views", max_views, "board views used at most");
+    v("min_views", min_views, "board views needed to calibrate");
+    v("max_frames", max_frames, "frames over which views are gathered before calibrating with what there is");
+    v("min_view_change", min_view_change,
+      "a view is kept if its corners moved (RMS) this fraction of the image diagonal from every kept view");
+    v("distortion_terms", distortion_terms, "4 (k1 k2 p1 p2) or 5 (also k3)");
+    v("max_rms_px", max_rms_px, "a calibration whose reprojection error exceeds this is refused, pixels");
+  }
+  void check() const;
+};
+
+struct CalibrationResult {
+  CameraModel camera;
+  double rms_px = 0;  // reprojection error over all views
+  int views = 0;
+};
+
+class SelfCalibrator {
+ public:
+  SelfCalibrator(const ChessboardTarget& target, cv::Size image_size, const SelfCalibrationOptions& options);
+
+  // Offers a board view (corners in SPEC order, distorted pixels); true if it was kept.
+  bool addView(const std::vector<cv::Point2f>& uv_distorted);
+  int numViews() const { return static_cast<int>(views_.size()); }
+  bool full() const { return numViews() >= options_.max_views; }
+  // Zhang's calibration on the kept views; empty with fewer than min_views or an error over max_rms_px.
+  std::optional<CalibrationResult> calibrate() const;
+
+ private:
+  ChessboardTarget target_;
+  cv::Size image_size_;
+  SelfCalibrationOptions options_;
+  std::vector<std::vector<cv::Point2f>> views_;
+};
+
+// `slamcmp calibrate`: a full board search in every frame of `frames`, the view selection above,
+// then Zhang's calibration. Throws InputError naming `where` when too few distinct board views
+// were found.
+CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,
+                                      const SelfCalibrationOptions& options, const std::string& where);
+
+}  // namespace slamcmp
