@@ -61,6 +61,7 @@ bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& t,
   const cv::Point2f dx = uv[t.cols - 1] - uv[0];
   const cv::Point2f dy = uv[(t.rows - 1) * t.cols] - uv[0];
   if (dx.x * dy.y - dx.y * dy.x < 0) flipRows(t, uv);
+  if (t.symmetric()) return true;  // both 180 degree turns look alike: handedness is all there is
 
   std::vector<cv::Point2f> grid;
   grid.reserve(uv.size());

@@ -32,7 +32,8 @@ bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& target,
 
 // Puts corners (a cols x rows grid in any of the detector's orders) into SPEC section 2's order by
 // the handedness of the grid in the image and the colour of the corner squares. Returns false if the
-// square colours cannot be told apart (the grid is not a chessboard).
+// square colours cannot be told apart (the grid is not a chessboard). A symmetric board
+// (ChessboardTarget::symmetric) gets the handedness only: its origin is one of two corners.
 bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
                             std::vector<cv::Point2f>& uv);
 

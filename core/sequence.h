@@ -48,6 +48,7 @@ struct SequenceOpenOptions {
   std::string camera_path;  // overrides camera.yaml beside the sequence
   std::string target_path;  // overrides target.yaml beside the sequence
   double images_fps = 30.0;  // timestamps for a plain image folder (frame index / fps)
+  bool allow_symmetric_target = false;  // calibration only: see ChessboardTarget::symmetric
 };
 
 // Throws InputError for anything missing or malformed; reads the first frame to learn (and check)

@@ -20,11 +20,11 @@ std::vector<Vec3> ChessboardTarget::outerCornersWorld() const {
           cornerWorld(0, rows - 1)};
 }
 
-void ChessboardTarget::check(const std::string& where) const {
+void ChessboardTarget::check(const std::string& where, bool allow_symmetric) const {
   if (cols < 2 || rows < 2)
     throw InputError(where, "a chessboard needs at least 2x2 inner corners, got " +
                                 std::to_string(cols) + "x" + std::to_string(rows));
-  if (cols % 2 == rows % 2)
+  if (symmetric() && !allow_symmetric)
     throw InputError(where, "inner corner counts " + std::to_string(cols) + "x" +
                                 std::to_string(rows) +
                                 " are both " + (cols % 2 ? "odd" : "even") +
@@ -33,7 +33,7 @@ void ChessboardTarget::check(const std::string& where) const {
     throw InputError(where, "square_size must be positive");
 }
 
-ChessboardTarget readTargetYaml(const std::string& path) {
+ChessboardTarget readTargetYaml(const std::string& path, bool allow_symmetric) {
   YamlFile file(path);
   if (file.has("type")) {
     const std::string type = file.getString("type");
@@ -44,7 +44,7 @@ ChessboardTarget readTargetYaml(const std::string& path) {
   t.cols = file.getInt("inner_corners_cols");
   t.rows = file.getInt("inner_corners_rows");
   t.square_size = file.getDouble("square_size");
-  t.check(path);
+  t.check(path, allow_symmetric);
   return t;
 }
 

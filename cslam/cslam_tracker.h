@@ -19,7 +19,7 @@
 #include "cslam/feature_map.h"
 #include "cslam/feature_tracker.h"
 #include "cslam/homography_pose.h"
-#include "cslam/self_calibration.h"
+#include "core/self_calibration.h"
 #include "cslam/two_view_motion.h"
 
 namespace slamcmp {

@@ -5,7 +5,7 @@
 #include "core/camera.h"
 #include "core/sequence.h"
 #include "core/target.h"
-#include "cslam/self_calibration.h"
+#include "core/self_calibration.h"
 #include "eval/commands.h"
 
 namespace slamcmp {
@@ -24,6 +24,7 @@ void addCalibrateCommand(CLI::App& app) {
   cmd->callback([args] {
     SequenceOpenOptions open;
     open.target_path = args->target;
+    open.allow_symmetric_target = true;  // intrinsics do not depend on the board's orientation
     Sequence seq = openSequence(args->sequence, open);
     SelfCalibrationOptions options;
     if (seq.kind == "images") {

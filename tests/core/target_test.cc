@@ -94,3 +94,21 @@ INSTANTIATE_TEST_SUITE_P(
 
 }  // namespace
 }  // namespace slamcmp
+
+namespace slamcmp {
+namespace {
+
+// A symmetric board is refused for tracking but accepted for calibration, where its corner order
+// only needs the right handedness.
+TEST(Target, SymmetricBoardOnlyForCalibration) {
+  test::TempDir tmp;
+  test::writeText(tmp.file("t.yaml"), "%YAML:1.0\n---\ntype: chessboard\ninner_corners_cols: 8\n"
+                                      "inner_corners_rows: 6\nsquare_size: 0.03\n");
+  EXPECT_THROW(readTargetYaml(tmp.file("t.yaml")), InputError);
+  const ChessboardTarget t = readTargetYaml(tmp.file("t.yaml"), /*allow_symmetric=*/true);
+  EXPECT_TRUE(t.symmetric());
+  EXPECT_EQ(t.numCorners(), 48);
+}
+
+}  // namespace
+}  // namespace slamcmp

@@ -198,8 +198,8 @@ INSTANTIATE_TEST_SUITE_P(
                       std::string(kKittiLine) + kKittiLine + kKittiLine, "times.txt", "0.0\n0.1\n"},
         BadTrajectory{"kitti_more_times", "kitti.txt", std::string(kKittiLine) + kKittiLine,
                       "times.txt", "0.0\n0.1\n0.2\n"},
-        BadTrajectory{"kitti_times_not_increasing", "kitti.txt",
-                      std::string(kKittiLine) + kKittiLine, "times.txt:2", "0.1\n0.1\n"}),
+        BadTrajectory{"kitti_times_going_back", "kitti.txt",
+                      std::string(kKittiLine) + kKittiLine, "times.txt:2", "0.2\n0.1\n"}),
     [](const auto& info) { return info.param.name; });
 
 // Published ground truth repeats a timestamp now and then (TUM fr2_desk, evo's V1_02 estimate):

@@ -1,5 +1,4 @@
 // `slamcmp calibrate` on the published calibration image sets (issue 3 targets).
-#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -13,14 +12,10 @@ namespace slamcmp {
 namespace {
 
 int runCalibrate(const std::string& sequence, const ChessboardTarget& target, const test::TempDir& dir) {
-  const char* bin = std::getenv("SLAMCMP_BIN");
-  if (!bin) ADD_FAILURE() << "SLAMCMP_BIN is not set (run through ctest)";
   writeTargetYaml(dir.file("target.yaml"), target);
-  const std::string cmd = std::string(bin ? bin : "slamcmp") + " calibrate --sequence " + sequence + " --target " +
-                          dir.file("target.yaml") + " --out " + dir.file("camera.yaml") + " > " +
-                          dir.file("log.txt") + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::runSlamcmp("calibrate --sequence " + sequence + " --target " + dir.file("target.yaml") +
+                          " --out " + dir.file("camera.yaml"))
+      .exit_code;
 }
 
 // Bouguet's toolbox example (13x12 inner corners, 30 mm): within 0.5 % of the published focal
@@ -57,6 +52,25 @@ TEST(CalibrateCommand, NoBoardIsBadInput) {
   test::TempDir dir;
   EXPECT_EQ(runCalibrate(shared + "/calibration/opencv_left", {7, 4, 0.025}, dir), 2);
   EXPECT_FALSE(std::ifstream(dir.file("camera.yaml")).good());
+}
+
+// The phone video's board has 8x6 inner corners: symmetric, so it cannot define a world frame
+// (`run` refuses it) but calibrates a camera. No published result: the principal point must be near
+// the centre of the 1280x720 image and both focal lengths agree within 2 %.
+TEST(CalibrateCommand, PhoneVideoWithASymmetricBoard) {
+  SLAMCMP_REQUIRE_SHARED(shared);
+  test::TempDir dir;
+  ASSERT_EQ(runCalibrate(shared + "/video_chessboard/chessboard.avi", {8, 6, 1.0}, dir), 0);
+  const CameraModel c = readCameraYaml(dir.file("camera.yaml"));
+  EXPECT_EQ(c.width, 1280);
+  EXPECT_NEAR(c.cx, 640, 0.05 * 1280);
+  EXPECT_NEAR(c.cy, 360, 0.05 * 720);
+  EXPECT_NEAR(c.fx / c.fy, 1.0, 0.02);
+  const auto run = test::runSlamcmp("run --backend cslam --sequence " + shared +
+                                    "/video_chessboard/chessboard.avi --camera " + dir.file("camera.yaml") +
+                                    " --out " + dir.file("run"));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("both even"), std::string::npos) << run.err;
 }
 
 }  // namespace

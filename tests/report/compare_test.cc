@@ -1,10 +1,16 @@
 #include "eval/compare.h"
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "datasets/synth_sequence.h"
 #include "eval/thesis_tables.h"
 #include "eval/tracker_factory.h"
+#include "tests/test_util.h"
 
 namespace slamcmp {
 namespace {
@@ -29,6 +35,57 @@ TEST(Compare, ThesisTablesHoldTheFourVideos) {
   EXPECT_EQ(frames, 337 + 335 + 318 + 402);
   EXPECT_DOUBLE_EQ(thesisVideo("tv4")->ms_monoslam, 653.23);
   EXPECT_FALSE(thesisVideo("tv5"));
+}
+
+}  // namespace
+}  // namespace slamcmp
+
+namespace slamcmp {
+namespace {
+
+// Both back-ends on 20 frames of tv1: the report holds the thesis's tables with measured rows,
+// the accuracy table and five figures, and every run folder its outputs.
+TEST(Compare, EndToEndOnShortTv1) {
+  test::TempDir tmp;
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = 20;
+  synth.supersample = 1;  // quick: the accuracy tests use full renders
+  writeSyntheticSequence(synth, tmp.file("tv1"));
+
+  CompareOptions options;
+  options.sequences = {tmp.file("tv1")};
+  options.methods = parseMethods("cslam,cslam:calibration,monoslam");
+  options.out_dir = tmp.file("out");
+  const std::string report_path = runCompare(options);
+
+  std::ifstream in(report_path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string report = ss.str();
+  EXPECT_NE(report.find("## Table 3.1"), std::string::npos);
+  EXPECT_NE(report.find("| tv1 | 20 | 337 |"), std::string::npos) << report;
+  EXPECT_NE(report.find("116.31"), std::string::npos);  // the thesis's figure beside ours
+  EXPECT_EQ(report.find("failed:"), std::string::npos) << report;
+  for (const char* fig : {"trajectory", "xyz", "rotation", "error", "timing"})
+    EXPECT_TRUE(std::filesystem::exists(tmp.file(std::string("out/figures/tv1_") + fig + ".png"))) << fig;
+  for (const char* run : {"tv1-cslam", "tv1-cslam-calibration", "tv1-monoslam"})
+    for (const char* file : {"trajectory.txt", "frames.csv", "summary.json", "map.ply"})
+      EXPECT_TRUE(std::filesystem::exists(tmp.file(std::string("out/runs/") + run + "/" + file))) << run << file;
+
+  // accuracy.csv: one row per method, each with an ATE under 5 cm on this easy start.
+  std::ifstream acc(tmp.file("out/accuracy.csv"));
+  std::string line;
+  std::getline(acc, line);
+  int rows = 0;
+  while (std::getline(acc, line)) {
+    ++rows;
+    std::stringstream fields(line);
+    std::string f[6];
+    for (auto& x : f) std::getline(fields, x, ',');
+    EXPECT_LT(std::stod(f[5]), 0.05) << line;
+  }
+  EXPECT_EQ(rows, 3);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "cslam/self_calibration.h"
+#include "core/self_calibration.h"
 
 #include <cmath>
 
