@@ -251,34 +251,25 @@ std::vector<std::string> writeFigures(const SequenceInfo& seq, const std::vector
     save(fig, "trajectory");
   }
   // X, Y, Z and r_x, r_y, r_z against frame number: thesis figures 3.8, 3.10, 3.12, 3.14.
-  {
+  auto threeAxes = [&](const std::string& title, const char* const names[3], const std::string& unit,
+                       const std::string& stem, auto component) {
     Figure fig;
-    fig.title = seq.name + ": camera position against frame";
-    const char* names[] = {"X", "Y", "Z"};
-    for (int a = 0; a < 3; ++a) {
-      PlotPanel p;
-      p.title = std::string(names[a]) + " coordinate of the camera";
-      p.xlabel = "frame";
-      p.ylabel = std::string(names[a]) + " [m]";
-      addAll(p, [a](const SE3& T) { return T.t()[a]; });
-      fig.panels.push_back(p);
-    }
-    save(fig, "xyz");
-  }
-  {
-    Figure fig;
-    fig.title = seq.name + ": camera rotation vector against frame";
-    const char* names[] = {"r_x", "r_y", "r_z"};
+    fig.title = seq.name + ": " + title;
     for (int a = 0; a < 3; ++a) {
       PlotPanel p;
       p.title = names[a];
       p.xlabel = "frame";
-      p.ylabel = std::string(names[a]) + " [deg]";
-      addAll(p, [a](const SE3& T) { return T.rotvec()[a] * 180.0 / M_PI; });
+      p.ylabel = std::string(names[a]) + " [" + unit + "]";
+      addAll(p, [&component, a](const SE3& T) { return component(T)[a]; });
       fig.panels.push_back(p);
     }
-    save(fig, "rotation");
-  }
+    save(fig, stem);
+  };
+  const char* const position_names[] = {"X", "Y", "Z"};
+  const char* const rotation_names[] = {"r_x", "r_y", "r_z"};
+  threeAxes("camera position against frame", position_names, "m", "xyz", [](const SE3& T) { return T.t(); });
+  threeAxes("camera rotation vector against frame", rotation_names, "deg", "rotation",
+            [](const SE3& T) -> Vec3 { return T.rotvec() * (180.0 / M_PI); });
   // What the thesis could not measure: error against ground truth, and time, per frame.
   if (seq.groundtruth) {
     Figure fig;

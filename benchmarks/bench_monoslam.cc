@@ -1,0 +1,142 @@
+// Cost of the MonoSLAM EKF's steps against the map size N (thesis section 2.4: the update is
+// O(N^2) in the number of map features, which caps a real-time map at about 100 features).
+//
+//   build/benchmarks/bench_monoslam [--benchmark_filter=Update]
+//
+// The state is synthetic: a camera at the origin looking along +z and N points spread over its
+// field of view at 1-3 m, with a dense, positive definite covariance (every point correlated with
+// the camera and with each other, as after a few frames of tracking). The update measures 12
+// features, as the tracker does a frame. Active search is timed per feature against the size of
+// its 3-sigma search ellipse (half-axis in pixels), on a smooth random texture.
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/camera.h"
+#include "monoslam_ekf/ekf_state.h"
+#include "monoslam_ekf/ekf_update.h"
+#include "monoslam_ekf/measurement_model.h"
+#include "monoslam_ekf/monoslam_options.h"
+#include "monoslam_ekf/motion_model.h"
+#include "monoslam_ekf/patch_search.h"
+#include "monoslam_ekf/patch_warp.h"
+
+namespace slamcmp {
+namespace {
+
+constexpr int kMeasuredPerFrame = 12;
+
+CameraModel benchCamera() {
+  return CameraModel::fromOpenCV((cv::Mat_<double>(3, 3) << 500, 0, 319.5, 0, 500, 239.5, 0, 0, 1),
+                                 cv::Mat::zeros(1, 5, CV_64F), {640, 480});
+}
+
+EkfState syntheticState(int n_points) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  EkfState state;
+  state.reset(SE3(), Eigen::Matrix<double, 13, 13>::Identity() * 1e-4);
+  for (int i = 0; i < n_points; ++i) {
+    const double depth = 2.0 + unit(rng);
+    const Vec3 y(0.5 * depth * unit(rng), 0.4 * depth * unit(rng), depth);
+    state.append(y, Mat3::Identity() * 1e-4, Eigen::MatrixXd::Zero(3, state.size()));
+  }
+  // A dense covariance: A A^T / n + 1e-4 I with A random, scaled to a few millimetres.
+  const int n = state.size();
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = 0.003 * unit(rng);
+  state.P() = A * A.transpose() / n + 1e-4 * Eigen::MatrixXd::Identity(n, n);
+  return state;
+}
+
+std::vector<PointObservation> observe(const EkfState& state, const CameraModel& camera, int max_count) {
+  std::vector<PointObservation> observations;
+  for (int offset = EkfState::kCameraDim; offset + 3 <= state.size(); offset += 3) {
+    PointObservation o;
+    o.offset = offset;
+    if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(offset), &o.h)) continue;
+    o.z = o.h.uv_distorted + Vec2(0.5, -0.5);
+    observations.push_back(o);
+    if (static_cast<int>(observations.size()) == max_count) break;
+  }
+  return observations;
+}
+
+const std::vector<int64_t> kMapSizes = {25, 50, 100, 200};
+
+void BM_Predict(benchmark::State& bench) {
+  EkfState state = syntheticState(static_cast<int>(bench.range(0)));
+  const MotionModelOptions options;
+  for (auto _ : bench) {
+    predict(state, 0.1, options);
+    benchmark::DoNotOptimize(state.P().data());
+  }
+}
+BENCHMARK(BM_Predict)->ArgsProduct({kMapSizes})->ArgName("N");
+
+// h, its Jacobians and the 2x2 innovation covariance of every feature, as active search needs them.
+void BM_MeasurementPrediction(benchmark::State& bench) {
+  const EkfState state = syntheticState(static_cast<int>(bench.range(0)));
+  const CameraModel camera = benchCamera();
+  for (auto _ : bench) {
+    int visible = 0;
+    for (int offset = EkfState::kCameraDim; offset + 3 <= state.size(); offset += 3) {
+      PointObservation o;
+      o.offset = offset;
+      if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(offset), &o.h)) continue;
+      const Eigen::MatrixXd S = innovationCovariance(state, {o}, 1.0);
+      benchmark::DoNotOptimize(S.data());
+      ++visible;
+    }
+    benchmark::DoNotOptimize(visible);
+  }
+}
+BENCHMARK(BM_MeasurementPrediction)->ArgsProduct({kMapSizes})->ArgName("N");
+
+// 12 matched features in one batch: K = P H^T S^-1 and P -= K S K^T over the whole state.
+void BM_BatchUpdate(benchmark::State& bench) {
+  const EkfState prior = syntheticState(static_cast<int>(bench.range(0)));
+  const std::vector<PointObservation> observations = observe(prior, benchCamera(), kMeasuredPerFrame);
+  EkfState state = prior;
+  for (auto _ : bench) {
+    bench.PauseTiming();
+    state = prior;
+    bench.ResumeTiming();
+    batchUpdate(state, observations, 1.0);
+    benchmark::DoNotOptimize(state.P().data());
+  }
+}
+BENCHMARK(BM_BatchUpdate)->ArgsProduct({kMapSizes})->ArgName("N");
+
+// One feature: its template warped to the predicted view, then searched over its 3-sigma ellipse.
+void BM_ActiveSearchPerFeature(benchmark::State& bench) {
+  const double half_axis = static_cast<double>(bench.range(0));
+  const CameraModel camera = benchCamera();
+  cv::Mat noise(480, 640, CV_8U), grey;
+  cv::randu(noise, 0, 255);
+  cv::GaussianBlur(noise, grey, cv::Size(0, 0), 2.0);
+  cv::normalize(grey, grey, 0, 255, cv::NORM_MINMAX);
+  const Vec2 uv(320, 240);
+  const Vec3 y = Vec3(0, 0, 2.0) + 2.0 * Vec3((uv.x() - 319.5) / 500, (uv.y() - 239.5) / 500, 0);
+  PatchSource source;
+  makePatchSource(grey, uv, ActiveSearchOptions().source_size, SE3(), &source);
+  const SE3 T_world_camera = SE3::fromRotvec(Vec3(0, 0.01, 0), Vec3(0.01, 0, 0));
+  const double sigma = half_axis / 3.0;
+  const SearchEllipse ellipse{uv, Mat2::Identity() * sigma * sigma};
+  for (auto _ : bench) {
+    cv::Mat templ;
+    warpTemplate(source, camera, T_world_camera, y, uv, ActiveSearchOptions().patch_size, &templ);
+    const std::vector<PatchMatch> matches = searchEllipses(grey, templ, {ellipse}, 3.0, 0.8);
+    benchmark::DoNotOptimize(matches.data());
+  }
+}
+BENCHMARK(BM_ActiveSearchPerFeature)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Arg(70)->ArgName("half_axis_px");
+
+}  // namespace
+}  // namespace slamcmp
+
+BENCHMARK_MAIN();
