@@ -1,5 +1,6 @@
 #include "eval/plot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -42,7 +43,7 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
       }
       s << "EOD\n";
     }
-  s << "set terminal pngcairo enhanced size " << figure.width_px << "," << height
+  s << "set terminal pngcairo noenhanced size " << figure.width_px << "," << height
     << " font 'DejaVu Sans,10' linewidth 1\n";
   s << "set output " << quoted(png_path) << "\n";
   s << "set grid lc rgb '#dddddd'\nset key outside right top box opaque\nset tics out nomirror\n";
@@ -53,7 +54,25 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
     const PlotPanel& panel = figure.panels[p];
     s << "set title " << quoted(panel.title) << "\n";
     s << "set xlabel " << quoted(panel.xlabel) << "\nset ylabel " << quoted(panel.ylabel) << "\n";
-    s << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
+    if (panel.equal_axes) {
+      // One scale on both axes over a square range around the data, so a flat trajectory stays
+      // readable instead of collapsing into a sliver.
+      double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+      for (const auto& ser : panel.series)
+        for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i) {
+          if (!std::isfinite(ser.x[i]) || !std::isfinite(ser.y[i])) continue;
+          lo[0] = std::min(lo[0], ser.x[i]), hi[0] = std::max(hi[0], ser.x[i]);
+          lo[1] = std::min(lo[1], ser.y[i]), hi[1] = std::max(hi[1], ser.y[i]);
+        }
+      if (lo[0] <= hi[0]) {
+        const double half = 0.55 * std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-3});
+        s << "set xrange [" << 0.5 * (lo[0] + hi[0]) - half << ":" << 0.5 * (lo[0] + hi[0]) + half << "]\n"
+          << "set yrange [" << 0.5 * (lo[1] + hi[1]) - half << ":" << 0.5 * (lo[1] + hi[1]) + half << "]\n";
+      }
+      s << "set size ratio -1\n";
+    } else {
+      s << "set autoscale xy\nset size noratio\n";
+    }
     s << (panel.log_y ? "set logscale y\n" : "unset logscale y\n");
     if (panel.series.empty()) {
       s << "set key off\nplot NaN notitle\nset key\n";
