@@ -1,6 +1,7 @@
 #include "core/sequence.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,7 +18,33 @@ namespace fs = std::filesystem;
 
 namespace slamcmp {
 
+namespace {
+
+// A PNG without its IEND chunk or a JPEG without an end-of-image marker near its end was cut short
+// (an interrupted copy). Such files are not decoded: libpng and libjpeg would print their own
+// complaints to stderr (and libjpeg return a half-grey image).
+bool isTruncatedImage(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  if (!in.read(head, sizeof head)) return false;  // too short to tell: left to the decoder
+  const bool png = std::string(head, 8) == "\x89PNG\r\n\x1a\n";
+  const bool jpeg =
+      static_cast<unsigned char>(head[0]) == 0xFF && static_cast<unsigned char>(head[1]) == 0xD8;
+  if (!png && !jpeg) return false;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  const std::streamoff tail_size = std::min<std::streamoff>(size, png ? 12 : 4096);
+  std::string tail(static_cast<size_t>(tail_size), '\0');
+  in.seekg(size - tail_size);
+  if (!in.read(tail.data(), tail_size)) return true;
+  if (png) return tail.compare(4, 4, "IEND") != 0;
+  return tail.find("\xFF\xD9") == std::string::npos;
+}
+
+}  // namespace
+
 cv::Mat readGreyImage(const std::string& path) {
+  if (isTruncatedImage(path)) return {};
   cv::Mat img;
   try {
     img = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
@@ -118,7 +145,8 @@ std::vector<ImageEntry> readRgbList(const fs::path& list_path) {
       throw InputError(atLine(list, n), t == entries.back().timestamp ? "duplicate timestamp"
                                                                       : "timestamp goes back in time");
     const fs::path image = list_path.parent_path() / file;
-    if (!fs::is_regular_file(image))
+    std::error_code ec;  // e.g. a name too long for the file system: no such file either
+    if (!fs::is_regular_file(image, ec))
       throw InputError(atLine(list, n), "image '" + image.string() + "' does not exist");
     entries.push_back({t, image.string()});
   }
@@ -128,8 +156,12 @@ std::vector<ImageEntry> readRgbList(const fs::path& list_path) {
 
 std::vector<ImageEntry> listImageFolder(const fs::path& dir, double fps) {
   std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_regular_file() && isImageFile(e.path())) files.push_back(e.path().string());
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code entry_ec;  // e.g. a dangling link: not an image, not an error
+    if (it->is_regular_file(entry_ec) && isImageFile(it->path())) files.push_back(it->path().string());
+  }
+  if (ec) throw InputError(dir.string(), "cannot be listed: " + ec.message());
   if (files.empty()) throw InputError(dir.string(), "holds no rgb.txt and no image files");
   std::sort(files.begin(), files.end());
   std::vector<ImageEntry> entries;
@@ -162,7 +194,8 @@ std::vector<ImageEntry> readEurocCameraList(const fs::path& cam_dir) {
     if (!entries.empty() && !(t > entries.back().timestamp))
       throw InputError(atLine(list, n), "timestamps must increase");
     const fs::path image = cam_dir / "data" / file;
-    if (!fs::is_regular_file(image))
+    std::error_code ec;  // e.g. a name too long for the file system: no such file either
+    if (!fs::is_regular_file(image, ec))
       throw InputError(atLine(list, n), "image '" + image.string() + "' does not exist");
     entries.push_back({t, image.string()});
   }
@@ -206,6 +239,22 @@ CameraModel readEurocCamera(const std::string& path, SE3* T_body_camera) {
   return c;
 }
 
+// A board that could not be seen whole with squares of at least kMinSquarePx pixels is never
+// detected: refused here rather than answered with a run of lost frames.
+void checkTargetFitsImages(const ChessboardTarget& target, cv::Size image_size, const std::string& where) {
+  constexpr double kMinSquarePx = 4.0;
+  const double squares_long = std::max(target.cols, target.rows) + 1.0;
+  const double squares_short = std::min(target.cols, target.rows) + 1.0;
+  const double diagonal_px = std::hypot(image_size.width, image_size.height);
+  if (squares_long * kMinSquarePx > diagonal_px ||
+      squares_long * squares_short * kMinSquarePx * kMinSquarePx > image_size.area())
+    throw InputError(where, "a board of " + std::to_string(target.cols) + "x" + std::to_string(target.rows) +
+                                " inner corners cannot be seen in " + std::to_string(image_size.width) +
+                                "x" + std::to_string(image_size.height) +
+                                " images: its squares would be under " +
+                                std::to_string(static_cast<int>(kMinSquarePx)) + " pixels");
+}
+
 std::string lastComponent(const fs::path& p) {
   fs::path q = p;
   if (q.filename().empty()) q = q.parent_path();
@@ -218,7 +267,8 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   Sequence seq;
   seq.path = path;
   const fs::path p(path);
-  if (!fs::exists(p)) throw InputError(path, "does not exist");
+  std::error_code ec;
+  if (!fs::exists(p, ec)) throw InputError(path, ec ? "cannot be read: " + ec.message() : "does not exist");
   seq.name = lastComponent(p);
 
   fs::path companion_dir;  // where camera.yaml / target.yaml / groundtruth.txt are looked for
@@ -288,7 +338,10 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   seq.target_path = options.target_path;
   if (seq.target_path.empty() && fs::exists(companion_dir / "target.yaml"))
     seq.target_path = (companion_dir / "target.yaml").string();
-  if (!seq.target_path.empty()) seq.target = readTargetYaml(seq.target_path);
+  if (!seq.target_path.empty()) {
+    seq.target = readTargetYaml(seq.target_path, options.allow_symmetric_target);
+    checkTargetFitsImages(*seq.target, seq.image_size, seq.target_path);
+  }
 
   if (!seq.groundtruth && seq.kind != "video" && fs::exists(companion_dir / "groundtruth.txt")) {
     seq.groundtruth_path = (companion_dir / "groundtruth.txt").string();

@@ -20,9 +20,18 @@ YamlFile::YamlFile(const std::string& path) : path_(path) {
     std::string msg = e.err.empty() ? e.what() : e.err;
     for (char& c : msg)
       if (c == '\n') c = ' ';
+    // OpenCV reads YAML only after its "%YAML:1.0" line; say so rather than "Input file is invalid".
+    if (first.rfind("%YAML", 0) != 0)
+      throw InputError(path, "is not OpenCV YAML: its first line must be %YAML:1.0 (OpenCV: " + msg + ")");
     throw InputError(path, "is not valid YAML: " + msg);
+  } catch (const std::exception& e) {  // OpenCV's parser also lets std::length_error escape
+    throw InputError(path, std::string("is not valid YAML (") + e.what() + ")");
   }
   if (!fs_.isOpened()) throw InputError(path, "is not valid YAML");
+  // Fields are looked up by name; OpenCV asserts when the top level is a list or a single value.
+  const cv::FileNode top = fs_.root();
+  if (!top.empty() && !top.isMap())
+    throw InputError(path, "must hold named fields at its top level, not a list or a single value");
 }
 
 bool YamlFile::has(const std::string& key) const { return !fs_[key].empty(); }
@@ -49,6 +58,11 @@ cv::Mat YamlFile::getMatrix(const std::string& key) const {
   cv::Mat m;
   try {
     if (n.isMap()) {
+      // Sizes first: OpenCV allocates whatever rows x cols says before it reads the data.
+      const int rows = readInt(n["rows"], where + ".rows"), cols = readInt(n["cols"], where + ".cols");
+      if (rows < 0 || cols < 0 || static_cast<double>(rows) * cols > 1e6)
+        throw InputError(where, std::to_string(rows) + "x" + std::to_string(cols) +
+                                    " is not a plausible matrix size");
       n >> m;
     } else if (n.isSeq()) {  // a plain list [a, b, c] is read as a row vector
       std::vector<double> v;

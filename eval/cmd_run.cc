@@ -1,4 +1,5 @@
 #include <iostream>
+#include <limits>
 
 #include "eval/commands.h"
 #include "eval/run_sequence.h"
@@ -21,7 +22,8 @@ void addRunCommand(CLI::App& app) {
                   "YAML options file, one section per back-end (cslam:, monoslam:)");
   cmd->add_option("--camera", request->camera_path, "camera.yaml (overrides the sequence's)");
   cmd->add_option("--target", request->target_path, "target.yaml (overrides the sequence's)");
-  cmd->add_option("--max-frames", request->max_frames, "stop after N frames")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-frames", request->max_frames, "stop after N frames")
+      ->check(CLI::Range(0, std::numeric_limits<int>::max()));
   cmd->add_option("--mode", request->mode, "cslam: combined (default) | calibration | two_view");
   cmd->add_option("--init", request->init, "monoslam: board (default) | groundtruth | manual:FILE (a TUM pose)");
   cmd->callback([request] {

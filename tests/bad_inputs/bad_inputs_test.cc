@@ -1,0 +1,377 @@
+// The corpus of bad inputs (issue 7, SPEC section 4): every case is answered by the slamcmp binary
+// with exit code 2 and exactly one line on stderr naming the file (and the line or field) and the
+// problem. Each case builds its inputs in a fresh folder: a small valid sequence spoilt in one way.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+using test::writeText;
+
+constexpr int kWidth = 160, kHeight = 120;
+
+const char* kCameraYaml =
+    "%YAML:1.0\n---\nimage_width: 160\nimage_height: 120\n"
+    "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+    "   data: [ 150., 0., 79.5, 0., 150., 59.5, 0., 0., 1. ]\n"
+    "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
+    "   data: [ -0.1, 0.02, 0., 0., 0. ]\n";
+
+std::string targetYaml(const std::string& cols, const std::string& rows, const std::string& square) {
+  return "%YAML:1.0\n---\ntype: chessboard\ninner_corners_cols: " + cols + "\ninner_corners_rows: " + rows +
+         "\nsquare_size: " + square + "\n";
+}
+
+void writeImage(const std::string& path, int width = kWidth, int height = kHeight) {
+  cv::Mat grey(height, width, CV_8UC1);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) grey.at<uint8_t>(y, x) = static_cast<uint8_t>((x * 7 + y * 3) % 256);
+  ASSERT_TRUE(cv::imwrite(path, grey)) << path;
+}
+
+// The first `bytes` bytes of `path`, written back over it (a copy cut short).
+void truncateFile(const std::string& path, size_t bytes) {
+  std::string data;
+  {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    ASSERT_NE(f, nullptr) << path;
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+    std::fclose(f);
+  }
+  ASSERT_GT(data.size(), bytes) << path;
+  writeText(path, data.substr(0, bytes));
+}
+
+// A valid TUM-style sequence of three frames in `dir`: rgb/, rgb.txt, camera.yaml, target.yaml,
+// groundtruth.txt. Cases then spoil one thing.
+void writeSequence(const std::string& dir) {
+  std::filesystem::create_directories(dir + "/rgb");
+  std::string list = "# timestamp path\n";
+  for (int i = 0; i < 3; ++i) {
+    writeImage(dir + "/rgb/" + std::to_string(i) + ".png");
+    list += std::to_string(0.1 * i) + " rgb/" + std::to_string(i) + ".png\n";
+  }
+  writeText(dir + "/rgb.txt", list);
+  writeText(dir + "/camera.yaml", kCameraYaml);
+  writeText(dir + "/target.yaml", targetYaml("9", "6", "0.04"));
+  writeText(dir + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n0.1 0.01 0 -1 0 0 0 1\n0.2 0.02 0 -1 0 0 0 1\n");
+}
+
+const char* kGroundTruth =
+    "# timestamp tx ty tz qx qy qz qw\n0.0 0 0 0 0 0 0 1\n0.1 0.1 0 0 0 0 0 1\n"
+    "0.2 0.2 0.1 0 0 0 0 1\n0.3 0.3 0 0.1 0 0 0 1\n";
+
+// What one case runs and what its one line must name.
+struct Invocation {
+  std::string args;
+  std::vector<std::string> must_mention;
+};
+
+struct BadCase {
+  std::string name;
+  std::function<Invocation(const TempDir&)> make;
+};
+
+std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
+
+// slamcmp run on the sequence in tmp/seq, after `spoil` changed it.
+BadCase runCase(const std::string& name, std::function<void(const std::string& seq)> spoil,
+                std::vector<std::string> mention, const std::string& extra_args = "") {
+  return {name, [=](const TempDir& tmp) {
+            const std::string seq = tmp.file("seq");
+            writeSequence(seq);
+            spoil(seq);
+            std::vector<std::string> m;
+            for (const auto& s : mention) m.push_back(s.rfind("seq/", 0) == 0 ? tmp.file(s) : s);
+            std::string args = extra_args;  // "{seq}" stands for the sequence folder
+            if (const auto at = args.find("{seq}"); at != std::string::npos) args.replace(at, 5, seq);
+            return Invocation{
+                "run --backend cslam --sequence " + seq + " --out " + tmp.file("out") + " " + args, m};
+          }};
+}
+
+// slamcmp run with a spoilt rgb.txt.
+BadCase rgbCase(const std::string& name, const std::string& list, const std::string& mention) {
+  return runCase(name, [list](const std::string& seq) { writeText(seq + "/rgb.txt", list); },
+                 {"seq/rgb.txt" + mention});
+}
+
+// slamcmp run with a spoilt camera.yaml or target.yaml.
+BadCase yamlCase(const std::string& name, const std::string& file, const std::string& text,
+                 const std::string& field) {
+  return runCase(name, [file, text](const std::string& seq) { writeText(seq + "/" + file, text); },
+                 {"seq/" + file, field});
+}
+
+// slamcmp run with --config holding `text`.
+BadCase configCase(const std::string& name, const std::string& text, const std::string& field) {
+  return {name, [=](const TempDir& tmp) {
+            writeSequence(tmp.file("seq"));
+            writeText(tmp.file("run.yaml"), text);
+            return Invocation{"run --backend cslam --sequence " + tmp.file("seq") + " --out " +
+                                  tmp.file("out") + " --config " + tmp.file("run.yaml"),
+                              {tmp.file("run.yaml"), field}};
+          }};
+}
+
+// slamcmp eval of an estimate holding `text` (named `file`) against a valid ground truth.
+BadCase evalCase(const std::string& name, const std::string& file, const std::string& text,
+                 const std::string& mention) {
+  return {name, [=](const TempDir& tmp) {
+            writeText(tmp.file("gt.txt"), kGroundTruth);
+            writeText(tmp.file(file), text);
+            return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file(file),
+                              {tmp.file(file) + mention}};
+          }};
+}
+
+std::string camera(const std::string& matrix_data, const std::string& distortion) {
+  return "%YAML:1.0\n---\nimage_width: 160\nimage_height: 120\n"
+         "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " +
+         matrix_data + " ]\ndistortion_coefficients: [ " + distortion + " ]\n";
+}
+const char* kK = "150., 0., 79.5, 0., 150., 59.5, 0., 0., 1.";
+
+std::vector<BadCase> cases() {
+  const std::string k3 = "0.0 rgb/0.png\n0.1 rgb/1.png\n0.2 rgb/2.png\n";
+  return {
+      // The sequence itself.
+      {"MissingSequence",
+       [](const TempDir& tmp) {
+         return Invocation{"run --backend cslam --sequence " + tmp.file("nope") + " --out " + tmp.file("o"),
+                           {tmp.file("nope"), "does not exist"}};
+       }},
+      {"EmptyFolder",
+       [](const TempDir& tmp) {
+         return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                           {tmp.path(), "no rgb.txt and no image files"}};
+       }},
+      // rgb.txt lines.
+      rgbCase("RgbEmpty", "", ": lists no frames"),
+      rgbCase("RgbOnlyComments", "# nothing\n\n   \n", ": lists no frames"),
+      rgbCase("RgbMissingPath", "0.0 rgb/0.png\n0.1\n", ":2: expected 'timestamp path'"),
+      rgbCase("RgbExtraField", "0.0 rgb/0.png 7\n", ":1: expected 'timestamp path', found more fields"),
+      rgbCase("RgbTimestampNotNumber", "zero rgb/0.png\n", ":1: timestamp 'zero' is not a number"),
+      rgbCase("RgbTimestampNaN", "0.0 rgb/0.png\nnan rgb/1.png\n", ":2: timestamp is not finite"),
+      rgbCase("RgbTimestampInfinite", "0.0 rgb/0.png\ninf rgb/1.png\n", ":2: timestamp is not finite"),
+      rgbCase("RgbTimestampsOutOfOrder", "0.1 rgb/0.png\n0.0 rgb/1.png\n", ":2: timestamp goes back in time"),
+      rgbCase("RgbTimestampDuplicated", "0.1 rgb/0.png\n0.1 rgb/1.png\n", ":2: duplicate timestamp"),
+      rgbCase("RgbTruncatedLastLine", k3.substr(0, k3.size() - 8), ":3: image"),
+      rgbCase("RgbImageMissing", "0.0 rgb/0.png\n0.1 rgb/7.png\n", ":2: image"),
+      // Found by fuzz_sequence_list: a name too long for the file system threw filesystem_error (exit 1).
+      rgbCase("RgbImageNameTooLong", "0.0 " + std::string(300, 'g') + ".png\n", ":1: image"),
+      rgbCase("RgbBinaryGarbage", std::string("\x89\x00\xff\xfe garbage\n", 13), ":1:"),
+      // Images.
+      runCase("FirstImageUnreadableBytes",
+              [](const std::string& seq) { writeText(seq + "/rgb/0.png", "this is not a PNG"); },
+              {"seq/rgb/0.png", "cannot be decoded"}),
+      runCase("FirstImageEmptyFile", [](const std::string& seq) { writeText(seq + "/rgb/0.png", ""); },
+              {"seq/rgb/0.png", "cannot be decoded"}),
+      runCase("FirstImageTruncatedPng", [](const std::string& seq) { truncateFile(seq + "/rgb/0.png", 300); },
+              {"seq/rgb/0.png", "cannot be decoded"}),
+      runCase("FirstImageTruncatedJpeg",
+              [](const std::string& seq) {
+                cv::Mat noise(kHeight, kWidth, CV_8UC1);
+                cv::randu(noise, 0, 255);
+                ASSERT_TRUE(cv::imwrite(seq + "/rgb/0.jpg", noise));
+                truncateFile(seq + "/rgb/0.jpg", 2000);
+                writeText(seq + "/rgb.txt", "0.0 rgb/0.jpg\n0.1 rgb/1.png\n");
+              },
+              {"seq/rgb/0.jpg", "cannot be decoded"}),
+      runCase("ImagesOfMixedSizes", [](const std::string& seq) { writeImage(seq + "/rgb/1.png", 80, 60); },
+              {"seq/rgb/1.png", "80x60"}),
+      {"ImageFolderOfMixedSizes",
+       [](const TempDir& tmp) {
+         writeImage(tmp.file("a.png"));
+         writeImage(tmp.file("b.png"), 100, 100);
+         writeText(tmp.file("target.yaml"), targetYaml("9", "6", "0.04"));
+         return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                           {tmp.file("b.png"), "100x100"}};
+       }},
+      // camera.yaml.
+      yamlCase("CameraEmpty", "camera.yaml", "", "is empty"),
+      yamlCase("CameraTruncated", "camera.yaml", std::string(kCameraYaml).substr(0, 150), "YAML"),
+      yamlCase("CameraNotOpenCvYaml", "camera.yaml", "image_width: 160\n", "%YAML:1.0"),
+      yamlCase("CameraMissingField", "camera.yaml", "%YAML:1.0\n---\nimage_width: 160\n", "image_height"),
+      yamlCase("CameraMatrixNaN", "camera.yaml",
+               camera("150., 0., 79.5, 0., .nan, 59.5, 0., 0., 1.", "0, 0, 0, 0"), "camera_matrix"),
+      yamlCase("CameraDistortionInfinite", "camera.yaml", camera(kK, "0, .inf, 0, 0"),
+               "distortion_coefficients"),
+      yamlCase("CameraDistortionCount", "camera.yaml", camera(kK, "0, 0, 0"), "distortion_coefficients"),
+      yamlCase(
+          "CameraMatrixHuge", "camera.yaml",
+          "%YAML:1.0\n---\nimage_width: 160\nimage_height: 120\ncamera_matrix: !!opencv-matrix\n"
+          "   rows: 100000\n   cols: 100000\n   dt: d\n   data: [ 1. ]\ndistortion_coefficients: [0,0,0,0]\n",
+          "camera_matrix"),
+      yamlCase("CameraOtherImageSize", "camera.yaml",
+               std::string(kCameraYaml).replace(std::string(kCameraYaml).find("160"), 3, "320"),
+               "320x120 but the images are 160x120"),
+      {"CameraOptionMissing",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         return Invocation{"run --backend cslam --sequence " + tmp.file("seq") + " --out " + tmp.file("o") +
+                               " --camera " + tmp.file("no.yaml"),
+                           {tmp.file("no.yaml"), "cannot be opened"}};
+       }},
+      // target.yaml: board sizes and values.
+      yamlCase("BoardEvenEven", "target.yaml", targetYaml("8", "6", "0.04"), "both even"),
+      yamlCase("BoardOddOdd", "target.yaml", targetYaml("9", "7", "0.04"), "both odd"),
+      yamlCase("BoardZero", "target.yaml", targetYaml("0", "0", "0.04"), "at least 2x2"),
+      yamlCase("BoardLargerThanImages", "target.yaml", targetYaml("61", "40", "0.04"),
+               "cannot be seen in 160x120 images"),
+      yamlCase("BoardSquareNaN", "target.yaml", targetYaml("9", "6", ".nan"), "square_size"),
+      yamlCase("BoardSquareNegative", "target.yaml", targetYaml("9", "6", "-0.04"), "square_size"),
+      yamlCase("BoardCountNotInteger", "target.yaml", targetYaml("9.5", "6", "0.04"), "inner_corners_cols"),
+      yamlCase(
+          "BoardWrongType", "target.yaml",
+          "%YAML:1.0\n---\ntype: circles\ninner_corners_cols: 9\ninner_corners_rows: 6\nsquare_size: 0.04\n",
+          "type"),
+      yamlCase("BoardMalformedYaml", "target.yaml", "%YAML:1.0\n---\ninner_corners_cols: [9\n", "YAML"),
+      // Found by fuzz_camera_yaml and fuzz_target_yaml: a top level that is not a map made OpenCV
+      // assert (exit 1, two lines).
+      yamlCase("CameraTopLevelList", "camera.yaml", "%YAML:1.0\n- image_width\n- 160\n", "top level"),
+      yamlCase("BoardTopLevelList", "target.yaml", "%YAML:1.0\n---\n- 9\n- 6\n", "top level"),
+      // Found by fuzz_camera_yaml: OpenCV's parser threw std::length_error (exit 1).
+      yamlCase("CameraParserLengthError", "camera.yaml",
+               "%YAML:1.0\nhmerrix: !!openc-matrix\n   rows:03\n   :00000", "not valid YAML"),
+      configCase("ConfigTopLevelList", "%YAML:1.0\n- cslam\n", "top level"),
+      // The --config options file.
+      configCase("ConfigMalformed", "%YAML:1.0\ncslam: [1, 2\n", "YAML"),
+      configCase("ConfigUnknownOption", "%YAML:1.0\ncslam:\n  no_such_option: 3\n", "cslam.no_such_option"),
+      configCase("ConfigWrongType", "%YAML:1.0\ncslam:\n  board:\n    track: perhaps\n", "cslam.board.track"),
+      configCase("ConfigNaN", "%YAML:1.0\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
+                 "cslam.board.max_grid_error_px"),
+      configCase("ConfigSectionNotMap", "%YAML:1.0\ncslam: 3\n", "cslam"),
+      // Ground truth and EuRoC lists beside a sequence.
+      runCase("GroundTruthShortLine",
+              [](const std::string& seq) {
+                writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n0.1 0 0\n");
+              },
+              {"seq/groundtruth.txt:2", "fields"}),
+      {"EurocListWithoutComma",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directories(tmp.file("mav0/cam0/data"));
+         writeImage(tmp.file("mav0/cam0/data/1.png"));
+         writeText(tmp.file("mav0/cam0/data.csv"), "#timestamp [ns],filename\n1000000000 1.png\n");
+         return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                           {tmp.file("mav0/cam0/data.csv") + ":2", "timestamp,filename"}};
+       }},
+      {"EurocImageNameTooLong",  // found by fuzz_sequence_list, as RgbImageNameTooLong
+       [](const TempDir& tmp) {
+         std::filesystem::create_directories(tmp.file("mav0/cam0/data"));
+         writeText(tmp.file("mav0/cam0/data.csv"),
+                   "#timestamp [ns],filename\n1000000000," + std::string(300, 'g') + "\n");
+         return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                           {tmp.file("mav0/cam0/data.csv") + ":2", "does not exist"}};
+       }},
+      {"SequenceNameTooLong",
+       [](const TempDir& tmp) {
+         const std::string seq = tmp.file(std::string(300, 's'));
+         return Invocation{"run --backend cslam --sequence " + seq + " --out " + tmp.file("o"), {seq}};
+       }},
+      // Videos that cannot be opened.
+      {"VideoGarbage",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("clip.avi"), "RIFF not really a video at all");
+         return Invocation{
+             "run --backend cslam --sequence " + tmp.file("clip.avi") + " --out " + tmp.file("o"),
+             {tmp.file("clip.avi"), "video"}};
+       }},
+      {"VideoEmpty",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("clip.mp4"), "");
+         return Invocation{
+             "run --backend cslam --sequence " + tmp.file("clip.mp4") + " --out " + tmp.file("o"),
+             {tmp.file("clip.mp4"), "video"}};
+       }},
+      // Output folders that cannot be written.
+      {"RunOutUnderRegularFile",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         writeText(tmp.file("file"), "x");
+         return Invocation{
+             "run --backend cslam --sequence " + tmp.file("seq") + " --out " + tmp.file("file/out"),
+             {tmp.file("file/out"), "cannot be created"}};
+       }},
+      {"SynthOutUnderRegularFile",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("file"), "x");
+         return Invocation{"synth --preset tv1 --frames 1 --out " + tmp.file("file/out"),
+                           {tmp.file("file/out")}};
+       }},
+      // Command-line values.
+      runCase(
+          "MaxFramesNegative", [](const std::string&) {}, {"--max-frames", "-1"}, "--max-frames -1"),
+      runCase(
+          "InitManualFileMalformed", [](const std::string& seq) { writeText(seq + "/pose.txt", "0 1 2\n"); },
+          {"seq/pose.txt:1", "fields"}, "--init manual:{seq}/pose.txt"),
+      // Trajectories given to eval: TUM, EuRoC, KITTI.
+      {"EvalNoAssociation",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("gt.txt"), kGroundTruth);
+         writeText(tmp.file("est.txt"), "100 0 0 0 0 0 0 1\n101 1 0 0 0 0 0 1\n");
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt"),
+                           {tmp.file("est.txt"), tmp.file("gt.txt"), "--max-diff"}};
+       }},
+      evalCase("EvalEstimateMissing", "absent.txt", "", ""),
+      evalCase("EvalEstimateEmpty", "est.txt", "", ": holds no pose"),
+      evalCase("TumTruncatedLine", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 0 0 0 0 1\n0.2 0 0 0",
+               ":3: has 4 fields"),
+      evalCase("TumNotNumber", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 zero 0 0 0 0 1\n",
+               ":2: a field is not a number"),
+      evalCase("TumNaN", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 nan 0 0 0 1\n", ":2: NaN or infinite"),
+      evalCase("TumInfinite", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 1e999 0 0 0 1\n", ":2: NaN or infinite"),
+      evalCase("TumZeroQuaternion", "est.txt", "0.0 0 0 0 0 0 0 0\n", ":1: quaternion norm"),
+      evalCase("TumOutOfOrder", "est.txt", "0.1 0 0 0 0 0 0 1\n0.0 0 0 0 0 0 0 1\n",
+               ":2: timestamp goes back"),
+      evalCase("EurocTooFewFields", "est.csv", "#timestamp,p_x\n1000000000,0,0,0,1,0,0\n",
+               ":2: has 7 fields"),
+      evalCase("EurocOutOfOrder", "est.csv", "#t\n2000000000,0,0,0,1,0,0,0\n1000000000,0,0,0,1,0,0,0\n",
+               ":3: timestamp goes back"),
+      evalCase("KittiNotRotation", "est.txt", "2 0 0 0 0 2 0 0 0 0 2 0\n",
+               ":1: the 3x3 part is not a rotation"),
+      evalCase("KittiElevenFields", "est.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n",
+               ":2: has 11 fields"),
+      evalCase("UnknownFieldCount", "est.txt", "1 2 3 4 5\n", ":1: has 5 fields"),
+      {"EvalAlignUnknown",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("gt.txt"), kGroundTruth);
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("gt.txt") +
+                               " --align sideways",
+                           {"--align", "sideways"}};
+       }},
+  };
+}
+
+class BadInput : public ::testing::TestWithParam<BadCase> {};
+
+int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST_P(BadInput, ExitsTwoWithOneLineNamingTheProblem) {
+  TempDir tmp;
+  const Invocation run = GetParam().make(tmp);
+  if (HasFatalFailure()) return;
+  const test::CommandResult r = test::runSlamcmp(run.args);
+  EXPECT_EQ(r.exit_code, 2) << run.args << "\nstderr: " << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << run.args << "\nstderr: " << r.err;
+  for (const std::string& m : run.must_mention)
+    EXPECT_NE(r.err.find(m), std::string::npos) << "stderr should name '" << m << "': " << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace slamcmp

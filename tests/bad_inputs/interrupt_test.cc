@@ -1,0 +1,129 @@
+// Ctrl-C in the middle of `slamcmp run` (issue 7): the run stops at the next frame and leaves a
+// valid trajectory.txt, frames.csv and summary.json for the frames done.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/frames_csv.h"
+#include "core/trajectory.h"
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+
+int countLines(const std::string& path) {
+  std::ifstream in(path);
+  int n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+// Starts `bin args...` with stdout and stderr into files; returns its pid.
+pid_t spawn(const std::vector<std::string>& argv, const std::string& out, const std::string& err) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(o, 1);
+    dup2(e, 2);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits for `pid` up to `limit`; kills it (a hang is a failure) and returns -1 past that.
+int waitExit(pid_t pid, std::chrono::seconds limit) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) {
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  ASSERT_NE(bin, nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const auto rendered =
+      test::runSlamcmp("synth --preset tv1 --frames 60 --supersample 1 --out " + tmp.file("tv1"));
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+
+  // A long sequence from the 60 rendered frames, played forth 20 times (1200 frames): long enough
+  // that the run is still going when the signal arrives, however fast the back-end.
+  const std::string seq = tmp.file("long");
+  std::filesystem::create_directories(seq);
+  std::filesystem::copy_file(tmp.file("tv1/camera.yaml"), seq + "/camera.yaml");
+  std::filesystem::copy_file(tmp.file("tv1/target.yaml"), seq + "/target.yaml");
+  std::ostringstream list;
+  for (int i = 0; i < 1200; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", i % 60);
+    list << 0.1 * i << " ../tv1/rgb/" << name << "\n";
+  }
+  test::writeText(seq + "/rgb.txt", list.str());
+
+  const std::string out = tmp.file("run");
+  const pid_t pid = spawn({bin, "run", "--backend", "cslam", "--sequence", seq, "--out", out},
+                          tmp.file("stdout"), tmp.file("stderr"));
+  ASSERT_GT(pid, 0);
+  // Interrupt once a few frames are recorded (header + 3 rows); give up (and fail) after 2 minutes.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  while (countLines(out + "/frames.csv") < 4 && std::chrono::steady_clock::now() < deadline &&
+         waitpid(pid, nullptr, WNOHANG) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_GE(countLines(out + "/frames.csv"), 4) << "the run recorded no frames";
+  kill(pid, SIGINT);
+  const int code = waitExit(pid, std::chrono::seconds(60));
+  ASSERT_EQ(code, 0) << "the interrupted run should end normally; stderr: "
+                     << std::ifstream(tmp.file("stderr")).rdbuf();
+
+  std::ifstream summary_file(out + "/summary.json");
+  ASSERT_TRUE(summary_file) << "no summary.json";
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["interrupted"], true);
+  const int frames = summary["frames"].get<int>();
+  EXPECT_GE(frames, 3);
+  EXPECT_LT(frames, 1200) << "the run was not stopped early";
+
+  const std::vector<FrameRow> rows = readFramesCsv(out + "/frames.csv");
+  ASSERT_EQ(static_cast<int>(rows.size()), frames) << "frames.csv and summary.json disagree";
+  for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].frame, static_cast<int>(i));
+
+  const int tracked = summary["tracked"].get<int>();
+  if (tracked > 0) {
+    const Trajectory trajectory = readTrajectory(out + "/trajectory.txt", TrajectoryFormat::Tum);
+    EXPECT_EQ(static_cast<int>(trajectory.size()), tracked);
+    EXPECT_LE(trajectory.back().timestamp, rows.back().timestamp + 1e-6);
+  } else {
+    EXPECT_EQ(countLines(out + "/trajectory.txt"), 1) << "only the header";
+  }
+}
+
+}  // namespace
+}  // namespace slamcmp
