@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the tests with AddressSanitizer + UndefinedBehaviorSanitizer (SLAMCMP_SANITIZE=ON) into
 # build-asan/ and runs them with ctest; a sanitizer report fails the test that triggered it (the
-# command-line tests run the sanitized slamcmp binary too).
+# command-line tests run the sanitized slamcmp binary too). Third-party leaks (OpenCV videoio probing
+# cameras through libgphoto2/libusb) are suppressed in scripts/lsan.supp.
 # Usage: scripts/sanitize.sh [TARGET ...]
 #   no TARGET: the whole suite; else only these test targets (slamcmp is always built), e.g.
 #   scripts/sanitize.sh test_core test_eval test_bad_inputs
@@ -15,7 +16,8 @@ if [ $# -gt 0 ]; then
 else
   cmake --build "$build" -j"$(nproc)" >> "$build.log" 2>&1 || { tail -n 60 "$build.log"; exit 1; }
 fi
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:detect_stack_use_after_return=1}
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:fast_unwind_on_malloc=0:check_initialization_order=1:detect_stack_use_after_return=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 cd "$build"
 # Test executables not built (when TARGETs are given) register a *_NOT_BUILT placeholder: skipped.
