@@ -2,10 +2,46 @@
 
 #include <cmath>
 #include <fstream>
+#include <sstream>
+
+#include <yaml.h>
 
 #include "core/error.h"
 
 namespace slamcmp {
+
+namespace {
+
+// libyaml checks the syntax before OpenCV parses: OpenCV 4.6's parser loops forever on some
+// malformed files (fuzz/known_hangs). OpenCV's header "%YAML:1.0" is not YAML's "%YAML 1.1".
+// Returns "" when the text is well-formed YAML, else libyaml's problem and line.
+std::string yamlSyntaxProblem(std::string text) {
+  if (text.rfind("%YAML:", 0) == 0) {
+    // OpenCV also reads the header without a "---" after it; YAML needs one after a directive.
+    const size_t eol = text.find('\n');
+    const bool has_start = eol != std::string::npos && text.compare(eol + 1, 3, "---") == 0;
+    text.replace(0, eol, has_start ? "%YAML 1.1" : "%YAML 1.1\n---");
+  }
+  yaml_parser_t parser;
+  if (!yaml_parser_initialize(&parser)) return "";  // out of memory: leave the check to OpenCV
+  yaml_parser_set_input_string(&parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+  std::string problem;
+  for (;;) {
+    yaml_event_t event;
+    if (!yaml_parser_parse(&parser, &event)) {
+      problem = std::string(parser.problem ? parser.problem : "syntax error") + " at line " +
+                std::to_string(parser.problem_mark.line + 1);
+      break;
+    }
+    const bool end = event.type == YAML_STREAM_END_EVENT;
+    yaml_event_delete(&event);
+    if (end) break;
+  }
+  yaml_parser_delete(&parser);
+  return problem;
+}
+
+}  // namespace
 
 YamlFile::YamlFile(const std::string& path) : path_(path) {
   std::ifstream probe(path);
@@ -13,6 +49,10 @@ YamlFile::YamlFile(const std::string& path) : path_(path) {
   std::string first;
   std::getline(probe, first);
   if (!probe && first.empty()) throw InputError(path, "is empty");
+  std::stringstream text;
+  text << first << '\n' << probe.rdbuf();
+  if (const std::string problem = yamlSyntaxProblem(text.str()); !problem.empty())
+    throw InputError(path, "is not valid YAML: " + problem);
   try {
     fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {

@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(build-essential cmake pkg-config
           libopencv-dev libopencv-contrib-dev libeigen3-dev
-          libcli11-dev nlohmann-json3-dev libfmt-dev
+          libcli11-dev nlohmann-json3-dev libfmt-dev libyaml-dev
           libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox)
 missing=()
 for p in "${packages[@]}"; do

@@ -246,6 +246,8 @@ std::vector<BadCase> cases() {
       // Found by fuzz_camera_yaml: OpenCV's parser threw std::length_error (exit 1).
       yamlCase("CameraParserLengthError", "camera.yaml",
                "%YAML:1.0\nhmerrix: !!openc-matrix\n   rows:03\n   :00000", "not valid YAML"),
+      // Found by fuzz_target_yaml: OpenCV 4.6's parser looped forever; libyaml now refuses it first.
+      yamlCase("BoardParserHang", "target.yaml", "%YAML:1.0\n---a:1\nb: --W-\n", "not valid YAML"),
       configCase("ConfigTopLevelList", "%YAML:1.0\n- cslam\n", "top level"),
       // The --config options file.
       configCase("ConfigMalformed", "%YAML:1.0\ncslam: [1, 2\n", "YAML"),
