@@ -23,20 +23,13 @@ namespace {
 // A PNG without its IEND chunk or a JPEG without an end-of-image marker near its end was cut short
 // (an interrupted copy). Such files are not decoded: libpng and libjpeg would print their own
 // complaints to stderr (and libjpeg return a half-grey image).
-bool isTruncatedImage(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char head[8] = {};
-  if (!in.read(head, sizeof head)) return false;  // too short to tell: left to the decoder
-  const bool png = std::string(head, 8) == "\x89PNG\r\n\x1a\n";
-  const bool jpeg =
-      static_cast<unsigned char>(head[0]) == 0xFF && static_cast<unsigned char>(head[1]) == 0xD8;
+bool isTruncatedImage(const std::vector<uchar>& bytes) {
+  if (bytes.size() < 8) return false;  // too short to tell: left to the decoder
+  const std::string head(bytes.begin(), bytes.begin() + 8);
+  const bool png = head == "\x89PNG\r\n\x1a\n";
+  const bool jpeg = bytes[0] == 0xFF && bytes[1] == 0xD8;
   if (!png && !jpeg) return false;
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  const std::streamoff tail_size = std::min<std::streamoff>(size, png ? 12 : 4096);
-  std::string tail(static_cast<size_t>(tail_size), '\0');
-  in.seekg(size - tail_size);
-  if (!in.read(tail.data(), tail_size)) return true;
+  const std::string tail(bytes.end() - std::min<size_t>(bytes.size(), png ? 12 : 4096), bytes.end());
   if (png) return tail.compare(4, 4, "IEND") != 0;
   return tail.find("\xFF\xD9") == std::string::npos;
 }
@@ -44,10 +37,17 @@ bool isTruncatedImage(const std::string& path) {
 }  // namespace
 
 cv::Mat readGreyImage(const std::string& path) {
-  if (isTruncatedImage(path)) return {};
+  // One read of the file, then decoding from memory: the truncation check needs the same bytes.
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return {};
+  std::vector<uchar> bytes(static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())) ||
+      bytes.empty() || isTruncatedImage(bytes))
+    return {};
   cv::Mat img;
   try {
-    img = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    img = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   } catch (const cv::Exception&) {
     return {};
   }
