@@ -13,4 +13,16 @@ const char* toString(TrackStatus status) {
   return "lost";
 }
 
+const char* toString(OverlayFeatureState state) {
+  switch (state) {
+    case OverlayFeatureState::Inlier: return "inlier";
+    case OverlayFeatureState::Rejected: return "rejected";
+    case OverlayFeatureState::Matched: return "matched";
+    case OverlayFeatureState::Failed: return "failed";
+    case OverlayFeatureState::Unmeasured: return "unmeasured";
+    case OverlayFeatureState::Initialising: return "initialising";
+  }
+  return "inlier";
+}
+
 }  // namespace slamcmp

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera.h"
+#include "core/frame_overlay.h"
 #include "core/sequence.h"
 #include "core/target.h"
 
@@ -24,6 +25,7 @@ struct FrameResult {
   int features = 0;                   // features the back-end holds (tracked or in the map)
   int measured = 0;                   // features measured in this frame
   std::string reason;                 // why the frame is lost or degraded; "" when all is well
+  std::optional<FrameOverlay> overlay;  // what was seen, when TrackerContext::want_overlay
 };
 
 struct MapPoint {
@@ -45,6 +47,7 @@ struct TrackerContext {
   InitSource init = InitSource::Board;
   std::optional<SE3> T_world_camera_init;  // for GroundTruth and Manual initialisation
   cv::Size image_size;
+  bool want_overlay = false;  // fill FrameResult::overlay (run --overlay / --show)
 };
 
 class Tracker {

@@ -1,0 +1,46 @@
+#pragma once
+// What a back-end saw in one frame, in image pixels (distorted, as in the frame), for drawing
+// (`run --overlay`, `run --show`). Back-ends fill it only when TrackerContext::want_overlay is
+// set, so runs that draw nothing pay nothing. Drawing lives in eval; this is only the data.
+#include <vector>
+
+#include "core/geometry.h"
+
+namespace slamcmp {
+
+enum class OverlayFeatureState {
+  Inlier,        // cslam: tracked and consistent with the frame's motion
+  Rejected,      // cslam: dropped this frame (forward-backward or epipolar check)
+  Matched,       // monoslam: searched and matched (drawn red, as SceneLib does)
+  Failed,        // monoslam: searched and not matched (yellow)
+  Unmeasured,    // monoslam: in the map and visible, not selected this frame
+  Initialising,  // monoslam: a depth ray not yet a point
+};
+const char* toString(OverlayFeatureState state);
+
+struct OverlayFeature {
+  int id = -1;
+  Vec2 uv = Vec2::Zero();
+  OverlayFeatureState state = OverlayFeatureState::Inlier;
+};
+
+// The 3-sigma ellipse {x : (x - centre)^T S^-1 (x - centre) <= 9} of an innovation covariance S.
+struct OverlayEllipse {
+  int feature_id = -1;
+  Vec2 centre = Vec2::Zero();
+  Mat2 S = Mat2::Identity();  // pixels^2
+  bool matched = false;
+};
+
+struct FrameOverlay {
+  std::vector<Vec2> board_corners;  // detected board corners in the target's order; empty if none
+  // Board axes projected: origin, then the ends of x, y and z (one and a half squares long).
+  std::vector<Vec2> board_axes;
+  std::vector<OverlayFeature> features;
+  std::vector<OverlayEllipse> search_ellipses;
+  int patch_size = 0;  // side of the matched/failed patches drawn at features (monoslam: 11)
+  // Each initialising feature's depth particles projected into this frame, nearest first.
+  std::vector<std::vector<Vec2>> particle_lines;
+};
+
+}  // namespace slamcmp
