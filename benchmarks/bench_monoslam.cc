@@ -5,19 +5,27 @@
 //
 // The state is synthetic: a camera at the origin looking along +z and N points spread over its
 // field of view at 1-3 m, with a dense, positive definite covariance (every point correlated with
-// the camera and with each other, as after a few frames of tracking). The update measures 12
-// features, as the tracker does a frame. Active search is timed per feature against the size of
-// its 3-sigma search ellipse (half-axis in pixels), on a smooth random texture.
+// the camera and with each other, as after a few frames of tracking; see syntheticState). The
+// update measures 12 features, as the tracker does a frame. Active search is timed per feature
+// against the size of its 3-sigma search ellipse (half-axis in pixels), on a smooth random texture.
+// The whole EKF frame (BM_EkfFrame) is the tracker's per-frame filter work on a map of N points:
+// prediction, every point's prediction and S, active search of 12 with warped templates, joint
+// compatibility and the batch update (measureFeatures), one core; the points lie on a textured
+// plane the camera sees. Not included: the rays' particle search and new-feature selection,
+// which do not depend on N.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/camera.h"
 #include "monoslam_ekf/ekf_state.h"
 #include "monoslam_ekf/ekf_update.h"
+#include "monoslam_ekf/frame_measurement.h"
 #include "monoslam_ekf/measurement_model.h"
 #include "monoslam_ekf/monoslam_options.h"
 #include "monoslam_ekf/motion_model.h"
@@ -34,22 +42,30 @@ CameraModel benchCamera() {
                                  cv::Mat::zeros(1, 5, CV_64F), {640, 480});
 }
 
-EkfState syntheticState(int n_points) {
+// Camera at the origin; points at `points` (default: N spread over the field of view at 1-3 m).
+EkfState syntheticState(int n_points, const std::vector<Vec3>& points = {}) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   EkfState state;
   state.reset(SE3(), Eigen::Matrix<double, 13, 13>::Identity() * 1e-4);
   for (int i = 0; i < n_points; ++i) {
     const double depth = 2.0 + unit(rng);
-    const Vec3 y(0.5 * depth * unit(rng), 0.4 * depth * unit(rng), depth);
+    const Vec3 y = points.empty() ? Vec3(0.5 * depth * unit(rng), 0.4 * depth * unit(rng), depth) : points[i];
     state.append(y, Mat3::Identity() * 1e-4, Eigen::MatrixXd::Zero(3, state.size()));
   }
-  // A dense covariance: A A^T / n + 1e-4 I with A random, scaled to a few millimetres.
+  // A dense covariance D C D: C a random correlation matrix (A A^T normalised, every entry
+  // correlated), D the standard deviations of a camera tracked for a while: 2 mm, quaternion 1e-3,
+  // 2 cm/s, 0.03 rad/s, points 5 mm (search ellipses of about 10 px half-axis after prediction).
   const int n = state.size();
   Eigen::MatrixXd A(n, n);
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) A(i, j) = 0.003 * unit(rng);
-  state.P() = A * A.transpose() / n + 1e-4 * Eigen::MatrixXd::Identity(n, n);
+    for (int j = 0; j < n; ++j) A(i, j) = unit(rng);
+  Eigen::MatrixXd C = A * A.transpose() / n + Eigen::MatrixXd::Identity(n, n);
+  const Eigen::VectorXd c_inv_sqrt = C.diagonal().cwiseSqrt().cwiseInverse();
+  Eigen::VectorXd sigma = Eigen::VectorXd::Constant(n, 0.005);
+  sigma.head<13>() << Vec3::Constant(0.002), Vec4::Constant(1e-3), Vec3::Constant(0.02), Vec3::Constant(0.03);
+  const Eigen::VectorXd d = sigma.cwiseProduct(c_inv_sqrt);
+  state.P() = d.asDiagonal() * C * d.asDiagonal();
   return state;
 }
 
@@ -68,6 +84,15 @@ std::vector<PointObservation> observe(const EkfState& state, const CameraModel& 
 
 const std::vector<int64_t> kMapSizes = {25, 50, 100, 200};
 
+// A smooth random texture (grey-level std well above min_patch_stddev at 11x11).
+cv::Mat textureImage() {
+  cv::Mat noise(480, 640, CV_8U), grey;
+  cv::randu(noise, 0, 255);
+  cv::GaussianBlur(noise, grey, cv::Size(0, 0), 2.0);
+  cv::normalize(grey, grey, 0, 255, cv::NORM_MINMAX);
+  return grey;
+}
+
 void BM_Predict(benchmark::State& bench) {
   EkfState state = syntheticState(static_cast<int>(bench.range(0)));
   const MotionModelOptions options;
@@ -85,10 +110,9 @@ void BM_MeasurementPrediction(benchmark::State& bench) {
   for (auto _ : bench) {
     int visible = 0;
     for (int offset = EkfState::kCameraDim; offset + 3 <= state.size(); offset += 3) {
-      PointObservation o;
-      o.offset = offset;
-      if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(offset), &o.h)) continue;
-      const Eigen::MatrixXd S = innovationCovariance(state, {o}, 1.0);
+      PointMeasurement h;
+      if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(offset), &h)) continue;
+      const Mat2 S = pointInnovationCovariance(state, h, offset, 1.0);
       benchmark::DoNotOptimize(S.data());
       ++visible;
     }
@@ -116,10 +140,7 @@ BENCHMARK(BM_BatchUpdate)->ArgsProduct({kMapSizes})->ArgName("N");
 void BM_ActiveSearchPerFeature(benchmark::State& bench) {
   const double half_axis = static_cast<double>(bench.range(0));
   const CameraModel camera = benchCamera();
-  cv::Mat noise(480, 640, CV_8U), grey;
-  cv::randu(noise, 0, 255);
-  cv::GaussianBlur(noise, grey, cv::Size(0, 0), 2.0);
-  cv::normalize(grey, grey, 0, 255, cv::NORM_MINMAX);
+  const cv::Mat grey = textureImage();
   const Vec2 uv(320, 240);
   const Vec3 y = Vec3(0, 0, 2.0) + 2.0 * Vec3((uv.x() - 319.5) / 500, (uv.y() - 239.5) / 500, 0);
   PatchSource source;
@@ -135,6 +156,47 @@ void BM_ActiveSearchPerFeature(benchmark::State& bench) {
   }
 }
 BENCHMARK(BM_ActiveSearchPerFeature)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Arg(70)->ArgName("half_axis_px");
+
+// The filter's whole frame on a map of N points: the image is the texture on the plane z = 2 m
+// seen by the camera at the origin, each point a pixel of a grid over it with its patch from that
+// image, the covariance dense (syntheticState). One iteration: predict, measureFeatures.
+void BM_EkfFrame(benchmark::State& bench) {
+  cv::setNumThreads(1);
+  const int n = static_cast<int>(bench.range(0));
+  const CameraModel camera = benchCamera();
+  const cv::Mat grey = textureImage();
+  const int cols = static_cast<int>(std::ceil(std::sqrt(n * 4.0 / 3.0))), rows = (n + cols - 1) / cols;
+  const double margin = 40;
+  std::vector<Vec3> points;
+  std::vector<MapFeature> prior_features;
+  const ActiveSearchOptions options;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 uv(margin + (640 - 2 * margin) * (i % cols + 0.5) / cols,
+                  margin + (480 - 2 * margin) * (i / cols + 0.5) / rows);
+    points.push_back(2.0 * Vec3((uv.x() - 319.5) / 500, (uv.y() - 239.5) / 500, 1.0));
+    MapFeature f;
+    f.id = i;
+    f.offset = EkfState::kCameraDim + 3 * i;
+    makePatchSource(grey, uv, options.source_size, SE3(), &f.source);
+    prior_features.push_back(f);
+  }
+  const EkfState prior = syntheticState(n, points);
+  const MotionModelOptions motion;
+  EkfState state = prior;
+  std::vector<MapFeature> features = prior_features;
+  int matched = 0;
+  for (auto _ : bench) {
+    bench.PauseTiming();
+    state = prior;
+    features = prior_features;
+    bench.ResumeTiming();
+    predict(state, 1.0 / 30, motion);
+    matched = measureFeatures(state, features, camera, grey, options).matched;
+    benchmark::DoNotOptimize(state.P().data());
+  }
+  bench.counters["matched"] = matched;
+}
+BENCHMARK(BM_EkfFrame)->ArgsProduct({kMapSizes})->ArgName("N")->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 
 }  // namespace
 }  // namespace slamcmp

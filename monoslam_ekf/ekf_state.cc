@@ -46,6 +46,4 @@ void EkfState::renormaliseQuaternion() {
   P_.middleCols<4>(kQ) = (P_.middleCols<4>(kQ) * J.transpose()).eval();
 }
 
-void EkfState::symmetrise() { P_ = 0.5 * (P_ + P_.transpose()).eval(); }
-
 }  // namespace slamcmp

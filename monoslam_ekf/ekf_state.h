@@ -40,7 +40,6 @@ class EkfState {
 
   // q <- q / |q| with the normalisation Jacobian applied to P's quaternion rows and columns.
   void renormaliseQuaternion();
-  void symmetrise();
 
  private:
   Eigen::VectorXd x_;

@@ -30,6 +30,7 @@ void ActiveSearchOptions::check() const {
   require(max_search_half_axis > 0, "search.max_search_half_axis", "must be positive");
   require(max_candidates >= 1, "search.max_candidates", "must be at least 1");
   require(joint_gate > 0 && joint_gate < 1, "search.joint_gate", "must be in (0, 1)");
+  require(consistency_gate > 0 && consistency_gate < 1, "search.consistency_gate", "must be in (0, 1)");
   require(source_size >= patch_size && source_size % 2 == 1, "search.source_size",
           "must be odd and at least patch_size, got " + std::to_string(source_size));
 }

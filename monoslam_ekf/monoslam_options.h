@@ -42,6 +42,7 @@ struct ActiveSearchOptions {
   double max_search_half_axis = 120; // pixels; features with a larger 3-sigma ellipse are skipped
   int max_candidates = 6;            // correlation peaks kept per feature for the association
   double joint_gate = 0.99;          // joint compatibility test probability (chi2 of 2k dof)
+  double consistency_gate = 0.999;   // each match against the others' prediction of it (chi2, 2 dof)
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   template <class V>
   void visit(V& v) {
@@ -54,6 +55,8 @@ struct ActiveSearchOptions {
     v("max_search_half_axis", max_search_half_axis, "pixels; larger search ellipses are skipped");
     v("max_candidates", max_candidates, "correlation peaks kept per feature for the association");
     v("joint_gate", joint_gate, "joint compatibility test probability (chi2 of 2k dof)");
+    v("consistency_gate", consistency_gate,
+      "probability of the test of each match against the others' prediction of it (chi2, 2 dof)");
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
   }
   void check() const;

@@ -12,11 +12,9 @@
 #include "core/image.h"
 #include "monoslam_ekf/board_pose.h"
 #include "monoslam_ekf/corner_selection.h"
-#include "monoslam_ekf/ekf_update.h"
-#include "monoslam_ekf/joint_compatibility.h"
 #include "monoslam_ekf/measurement_model.h"
+#include "monoslam_ekf/monoslam_overlay.h"
 #include "monoslam_ekf/motion_model.h"
-#include "monoslam_ekf/patch_search.h"
 
 namespace slamcmp {
 
@@ -30,7 +28,8 @@ std::string fixed(double value, int digits) {
 
 }  // namespace
 
-MonoslamTracker::MonoslamTracker(const TrackerContext& context) : init_(context.init) {
+MonoslamTracker::MonoslamTracker(const TrackerContext& context)
+    : init_(context.init), want_overlay_(context.want_overlay) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
   if (!context.target)
@@ -56,6 +55,9 @@ void MonoslamTracker::finish() {
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   std::vector<cv::Point2f> corners;
   const bool board_seen = detectChessboard(frame.grey, target_, &corners, options_.board);
+  start_corners_.clear();
+  if (board_seen)
+    for (const cv::Point2f& c : corners) start_corners_.emplace_back(c.x, c.y);
   SE3 T_world_camera;
   // The given pose starts the run; every restart after a loss needs the board.
   if (init_ != InitSource::Board && !ever_started_) {
@@ -91,7 +93,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
       if (p_camera.z() <= 0) continue;
       uv = camera_.project(p_camera);
     }
-    Feature f;
+    MapFeature f;
     if (!makePatchSource(frame.grey, uv, options_.search.source_size, T_world_camera, &f.source)) continue;
     f.source.normal_world = Vec3(0, 0, -1);  // the board plane z = 0, printed face towards -z
     f.id = next_id_++;
@@ -106,93 +108,11 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   return true;
 }
 
-int MonoslamTracker::measureMap(const Frame& frame) {
-  const ActiveSearchOptions& so = options_.search;
-  const int half = so.patch_size / 2;
-  struct Candidate {
-    size_t index;
-    PointMeasurement h;
-    Mat2 S;
-  };
-  std::vector<Candidate> candidates;
-  visible_ = 0;
-  for (size_t i = 0; i < features_.size(); ++i) {
-    const Feature& f = features_[i];
-    if (f.is_ray) continue;
-    Candidate c{i, {}, {}};
-    if (!predictMeasurement(camera_, state_.r(), state_.q(), state_.x().segment<3>(f.offset), &c.h)) continue;
-    if (!camera_.inImage(c.h.uv_distorted, half + 1)) continue;
-    ++visible_;
-    PointObservation o;
-    o.offset = f.offset;
-    o.h = c.h;
-    c.S = innovationCovariance(state_, {o}, so.pixel_sigma);
-    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(c.S).eigenvalues()(1));
-    if (max_axis > so.max_search_half_axis) continue;
-    candidates.push_back(c);
-  }
-  // The most uncertain features first: they tell the filter the most.
-  std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& a, const Candidate& b) { return a.S.determinant() > b.S.determinant(); });
-  if (static_cast<int>(candidates.size()) > so.features_per_frame) candidates.resize(so.features_per_frame);
-
-  // Search each selected feature's ellipse with its warped template.
-  const SE3 T_world_camera = state_.T_world_camera();
-  std::vector<PointObservation> searched;
-  std::vector<std::vector<Vec2>> candidates_uv;
-  std::vector<size_t> searched_index;
-  for (const Candidate& c : candidates) {
-    Feature& f = features_[c.index];
-    ++f.attempts;
-    cv::Mat templ;
-    if (!warpTemplate(f.source, camera_, T_world_camera, state_.x().segment<3>(f.offset), c.h.uv_distorted,
-                      so.patch_size, &templ) ||
-        patchStdDev(templ) < so.min_patch_stddev)
-      continue;
-    std::vector<PatchMatch> matches =
-        searchEllipses(frame.grey, templ, {{c.h.uv_distorted, c.S}}, so.sigma_gate, so.min_ncc);
-    if (matches.empty()) continue;
-    // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
-    // equally well and the correct one is the most likely, not the best scoring.
-    const Mat2 S_inv = c.S.inverse();
-    auto distance = [&](const PatchMatch& m) {
-      const Vec2 d = m.uv - c.h.uv_distorted;
-      return d.dot(S_inv * d);
-    };
-    std::sort(matches.begin(), matches.end(),
-              [&](const PatchMatch& a, const PatchMatch& b) { return distance(a) < distance(b); });
-    if (static_cast<int>(matches.size()) > so.max_candidates) matches.resize(so.max_candidates);
-    PointObservation o;
-    o.offset = f.offset;
-    o.h = c.h;
-    searched.push_back(o);
-    candidates_uv.emplace_back();
-    for (const PatchMatch& m : matches) candidates_uv.back().push_back(m.uv);
-    searched_index.push_back(c.index);
-  }
-  if (searched.empty()) return 0;
-
-  // The jointly compatible choice among the candidates, then one update.
-  std::vector<Vec2> predicted;
-  for (const PointObservation& o : searched) predicted.push_back(o.h.uv_distorted);
-  const std::vector<int> choice = jointCompatibleAssociation(
-      predicted, innovationCovariance(state_, searched, so.pixel_sigma), candidates_uv, so.joint_gate);
-  std::vector<PointObservation> observations;
-  for (size_t k = 0; k < searched.size(); ++k) {
-    if (choice[k] < 0) continue;
-    searched[k].z = candidates_uv[k][choice[k]];
-    observations.push_back(searched[k]);
-    ++features_[searched_index[k]].successes;
-  }
-  batchUpdate(state_, observations, so.pixel_sigma);
-  return static_cast<int>(observations.size());
-}
-
 void MonoslamTracker::removeFeature(size_t index) {
   const int offset = features_[index].offset;
   const int dim = features_[index].is_ray ? 6 : 3;
   state_.remove(offset, dim);
-  for (Feature& f : features_)
+  for (MapFeature& f : features_)
     if (f.offset > offset) f.offset -= dim;
   features_.erase(features_.begin() + static_cast<long>(index));
 }
@@ -200,7 +120,7 @@ void MonoslamTracker::removeFeature(size_t index) {
 void MonoslamTracker::updateRays(const Frame& frame) {
   const FeatureInitOptions& fo = options_.feature_init;
   for (size_t i = 0; i < features_.size();) {
-    Feature& f = features_[i];
+    MapFeature& f = features_[i];
     if (!f.is_ray) {
       ++i;
       continue;
@@ -214,7 +134,7 @@ void MonoslamTracker::updateRays(const Frame& frame) {
       const double spacing = (fo.max_depth - fo.min_depth) / (fo.particles - 1);
       const int ray_offset = f.offset;
       const int point_offset = promoteRay(state_, ray_offset, mean, stddev * stddev + spacing * spacing / 12);
-      for (Feature& g : features_)
+      for (MapFeature& g : features_)
         if (g.offset > ray_offset) g.offset -= 6;
       f.offset = point_offset;
       f.is_ray = false;
@@ -231,7 +151,7 @@ void MonoslamTracker::updateRays(const Frame& frame) {
 void MonoslamTracker::manageMap(const Frame& frame) {
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
-    const Feature& f = features_[i];
+    const MapFeature& f = features_[i];
     if (!f.is_ray && f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts)
       removeFeature(i);
     else
@@ -240,12 +160,12 @@ void MonoslamTracker::manageMap(const Frame& frame) {
 
   const FeatureInitOptions& fo = options_.feature_init;
   const int rays = static_cast<int>(std::count_if(features_.begin(), features_.end(),
-                                                  [](const Feature& f) { return f.is_ray; }));
+                                                  [](const MapFeature& f) { return f.is_ray; }));
   if (visible_ >= fo.min_visible || rays >= fo.max_initialising ||
       static_cast<int>(features_.size()) >= mo.max_features)
     return;
   std::vector<Vec2> occupied;
-  for (const Feature& f : features_) {
+  for (const MapFeature& f : features_) {
     const Vec3 y = f.is_ray ? Vec3(state_.x().segment<3>(f.offset) + f.particles.mean() * state_.x().segment<3>(f.offset + 3))
                             : Vec3(state_.x().segment<3>(f.offset));
     PointMeasurement m;
@@ -254,7 +174,7 @@ void MonoslamTracker::manageMap(const Frame& frame) {
   Vec2 uv;
   const int margin = options_.search.source_size / 2 + 1;
   if (!findCornerInFreeBox(frame.grey, occupied, fo, margin, rng_, &uv)) return;
-  Feature f;
+  MapFeature f;
   if (!makePatchSource(frame.grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||
       !sourceTemplate(f.source, options_.search.patch_size, &f.ray_template) ||
       patchStdDev(f.ray_template) < options_.search.min_patch_stddev)
@@ -296,12 +216,21 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
       return result;
     }
     manageMap(frame);
+    if (want_overlay_) {
+      result.overlay = monoslamOverlay(state_, features_, FrameMeasurement(), camera_, target_, options_.search.patch_size);
+      result.overlay->board_corners = start_corners_;
+    }
   } else {
     double dt = frame.timestamp - last_timestamp_;
     if (!(dt > 0)) dt = options_.motion.default_dt;
     last_timestamp_ = frame.timestamp;
     predict(state_, dt, options_.motion);
-    result.measured = measureMap(frame);
+    const FrameMeasurement measurement = measureFeatures(state_, features_, camera_, frame.grey, options_.search);
+    visible_ = measurement.visible;
+    result.measured = measurement.matched;
+    // Before updateRays and manageMap, which may remove features `measurement` points into.
+    if (want_overlay_)
+      result.overlay = monoslamOverlay(state_, features_, measurement, camera_, target_, options_.search.patch_size);
     frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
     updateRays(frame);
     manageMap(frame);
@@ -325,7 +254,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
 std::vector<MapPoint> MonoslamTracker::mapPoints() const {
   std::vector<MapPoint> points;
   if (!running_) return points;
-  for (const Feature& f : features_) {
+  for (const MapFeature& f : features_) {
     if (f.is_ray) continue;
     MapPoint p;
     p.id = f.id;

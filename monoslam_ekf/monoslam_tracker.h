@@ -7,9 +7,9 @@
 
 #include "core/tracker.h"
 #include "monoslam_ekf/ekf_state.h"
-#include "monoslam_ekf/feature_ray.h"
+#include "monoslam_ekf/frame_measurement.h"
+#include "monoslam_ekf/map_feature.h"
 #include "monoslam_ekf/monoslam_options.h"
-#include "monoslam_ekf/patch_warp.h"
 
 namespace slamcmp {
 
@@ -27,20 +27,7 @@ class MonoslamTracker : public Tracker {
   void finish() override;
 
  private:
-  struct Feature {
-    int id = 0;
-    int offset = 0;        // state offset: 3 values for a point, 6 for a ray
-    bool is_ray = false;   // initialising: ray plus depth particles
-    bool known = false;    // a board corner with zero uncertainty
-    PatchSource source;
-    cv::Mat ray_template;  // the unwarped first-view template, for the particle search
-    DepthParticles particles;
-    int ray_frames = 0;
-    int attempts = 0, successes = 0;
-  };
-
   bool start(const Frame& frame, std::string* reason);
-  int measureMap(const Frame& frame);
   void updateRays(const Frame& frame);
   void manageMap(const Frame& frame);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
@@ -50,13 +37,15 @@ class MonoslamTracker : public Tracker {
   ChessboardTarget target_;
   MonoslamOptions options_;
   InitSource init_;
+  bool want_overlay_ = false;
   std::optional<SE3> T_world_camera_init_;
 
   EkfState state_;
-  std::vector<Feature> features_;
+  std::vector<MapFeature> features_;
   bool running_ = false;
   bool ever_started_ = false;
   std::string lost_reason_;
+  std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
   int visible_ = 0;  // map points predicted in the image this frame

@@ -1,5 +1,6 @@
 #include "monoslam_ekf/ekf_update.h"
 
+#include <Eigen/LU>
 #include <gtest/gtest.h>
 
 #include "tests/monoslam_ekf/plane_render.h"
@@ -45,6 +46,40 @@ TEST(EkfUpdate, BatchEqualsSequentialForAFixedLinearisation) {
   batchUpdate(sequential, {b2}, 1.0);
   EXPECT_LT((batch.x() - sequential.x()).norm(), 1e-6);
   EXPECT_LT((batch.P() - sequential.P()).norm(), 1e-7);
+}
+
+// The block-wise S (one point, or several jointly) and the rank update equal the textbook dense
+// formulas with the full H (2m x n): S = H P H^T + R, K = P H^T S^-1, P - K S K^T.
+TEST(EkfUpdate, BlockwiseFormulasEqualTheDenseOnes) {
+  const CameraModel camera = test::testCamera();
+  EkfState prior = uncertainState();
+  // Dense correlations between everything, as after some frames of tracking.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(prior.size(), prior.size()) * 0.01;
+  prior.P() += A * A.transpose();
+  const std::vector<PointObservation> obs = {observe(prior, camera, 13, Vec2(1.0, -0.5)),
+                                             observe(prior, camera, 16, Vec2(-0.5, 2.0))};
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(4, prior.size());
+  Eigen::VectorXd nu(4);
+  for (int k = 0; k < 2; ++k) {
+    H.block<2, 3>(2 * k, EkfState::kR) = obs[k].h.H_r;
+    H.block<2, 4>(2 * k, EkfState::kQ) = obs[k].h.H_q;
+    H.block<2, 3>(2 * k, obs[k].offset) = obs[k].h.H_y;
+    nu.segment<2>(2 * k) = obs[k].z - obs[k].h.uv_distorted;
+  }
+  const double sigma = 1.5;
+  const Eigen::MatrixXd S = H * prior.P() * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(4, 4);
+  EXPECT_LT((innovationCovariance(prior, obs, sigma) - S).norm(), 1e-9 * S.norm());
+  EXPECT_LT((pointInnovationCovariance(prior, obs[1].h, 16, sigma) - S.block<2, 2>(2, 2)).norm(), 1e-9 * S.norm());
+
+  const Eigen::MatrixXd K = prior.P() * H.transpose() * S.inverse();
+  EkfState expected = prior;
+  expected.x() += K * nu;
+  expected.P() -= K * S * K.transpose();
+  expected.renormaliseQuaternion();
+  EkfState s = prior;
+  batchUpdate(s, obs, sigma);
+  EXPECT_LT((s.x() - expected.x()).norm(), 1e-12);
+  EXPECT_LT((s.P() - expected.P()).norm(), 1e-10 * prior.P().norm());
 }
 
 TEST(EkfUpdate, UpdateShrinksUncertaintyAndKeepsSymmetry) {

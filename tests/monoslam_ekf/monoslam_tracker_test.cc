@@ -121,6 +121,54 @@ TEST_F(MonoslamOnTv1, MapPointsCarryTheirUncertainty) {
   EXPECT_TRUE(tracker.options().contains("search"));
 }
 
+// The overlay: each Matched feature inside its 3-sigma search ellipse, as many Matched as
+// FrameResult::measured, rays drawn with their particles; nothing when not asked for.
+TEST_F(MonoslamOnTv1, OverlayShowsWhatWasSearchedAndMatched) {
+  Sequence seq = openSequence(dir_->path());
+  TrackerContext context;
+  context.camera = seq.camera;
+  context.target = seq.target;
+  context.want_overlay = true;
+  MonoslamTracker tracker(context);
+  MonoslamTracker plain([&] {
+    TrackerContext c = context;
+    c.want_overlay = false;
+    return c;
+  }());
+  Frame frame;
+  int matched_total = 0, rays = 0;
+  for (int i = 0; i < 15 && seq.frames->next(&frame); ++i) {
+    const FrameResult r = tracker.track(frame);
+    EXPECT_FALSE(plain.track(frame).overlay.has_value());
+    ASSERT_TRUE(r.overlay.has_value());
+    const FrameOverlay& o = *r.overlay;
+    EXPECT_EQ(o.patch_size, 11);
+    if (i == 0) {
+      EXPECT_EQ(o.board_corners.size(), 54u);
+    }
+    EXPECT_EQ(o.board_axes.size(), 4u);
+    int matched = 0, initialising = 0;
+    for (const OverlayFeature& f : o.features) {
+      if (f.state == OverlayFeatureState::Initialising) ++initialising;
+      if (f.state != OverlayFeatureState::Matched) continue;
+      ++matched;
+      const auto e = std::find_if(o.search_ellipses.begin(), o.search_ellipses.end(),
+                                  [&](const OverlayEllipse& x) { return x.feature_id == f.id; });
+      ASSERT_NE(e, o.search_ellipses.end()) << "frame " << i << " feature " << f.id;
+      EXPECT_TRUE(e->matched);
+      const Vec2 d = f.uv - e->centre;
+      EXPECT_LE(d.dot(e->S.inverse() * d), 9.0 + 1e-9) << "frame " << i << " feature " << f.id;
+    }
+    EXPECT_EQ(matched, r.measured) << "frame " << i;
+    EXPECT_EQ(static_cast<int>(o.particle_lines.size()), initialising);
+    for (const auto& line : o.particle_lines) EXPECT_GE(line.size(), 2u);
+    matched_total += matched;
+    rays += initialising;
+  }
+  EXPECT_GT(matched_total, 50);
+  EXPECT_GT(rays, 0);
+}
+
 // tv4's first 130 frames move away from the board along the optical axis (0.65 to 1.05 m), where
 // a new feature's depth is weakly observed: promoted too early (depth std/mean 0.3) its depth error
 // pulls the camera 5 cm (14 cm at worst) off; the defaults keep it to millimetres.
