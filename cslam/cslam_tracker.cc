@@ -25,6 +25,7 @@ void CslamOptions::check() const {
   map_refinement.check();
   if (!(max_map_error_px > 0)) throw InputError("cslam.max_map_error_px", "must be positive");
   map.check();
+  fusion.check();
   if (two_view_init_map_points < 1) throw InputError("cslam.two_view_init_map_points", "must be >= 1");
   calibration.check();
 }
@@ -39,14 +40,17 @@ double median(std::vector<double> v) {
 }  // namespace
 
 CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTarget& target, cv::Size image_size,
-                           const std::string& mode, const CslamOptions& options)
+                           const std::string& mode, const CslamOptions& options, bool want_overlay)
     : camera_(std::move(camera)),
       target_(target),
+      corners_world_(target.cornersWorld()),
       image_size_(image_size),
       mode_name_(mode.empty() ? "combined" : mode),
       options_(options),
+      want_overlay_(want_overlay),
       board_(target, options.board),
-      features_(options.features) {
+      features_(options.features),
+      fusion_(options.fusion) {
   if (mode_name_ == "combined") {
     mode_ = Mode::Combined;
   } else if (mode_name_ == "calibration") {
@@ -113,7 +117,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
   return false;
 }
 
-std::optional<SE3> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResult* result) {
+std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResult* result) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   // A full search costs up to seconds on a cluttered frame with part of the board or none: skip it
   // while the last pose says the board is not well inside the image.
@@ -126,18 +130,41 @@ std::optional<SE3> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResu
                        camera_->inImage(camera_->project(p_camera), options_.board.search_margin_px);
     }
   }
-  const auto corners =
+  auto corners =
       board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected);
   if (!corners) return std::nullopt;
-  std::vector<Vec2> xy;
-  xy.reserve(corners->size());
-  for (const auto& c : *corners) xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
-  const BoardPose pose = boardPose(target_.cornersWorld(), xy, focal_px_, options_.board_pose);
-  result->measured = static_cast<int>(corners->size());
-  return pose.T_camera_board.inverse();
+  BoardView view;
+  view.uv = std::move(*corners);
+  view.xy.reserve(view.uv.size());
+  for (const auto& c : view.uv) view.xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
+  const BoardPose pose = boardPose(corners_world_, view.xy, focal_px_, options_.board_pose);
+  view.T_world_camera = pose.T_camera_board.inverse();
+  view.rms_px = pose.rms_px;
+  result->measured = static_cast<int>(view.uv.size());
+  return view;
 }
 
-void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, const std::vector<Vec2>& xy) {
+SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result) {
+  const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), corners_world_, board.xy,
+                                                           focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
+  // The features' pose against the map (its error cancels in the frame-to-frame motion).
+  std::vector<Vec3> p_world;
+  std::vector<Vec2> xy_map;
+  const auto& features = features_.features();
+  for (size_t i = 0; i < features.size(); ++i)
+    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
+  std::optional<PoseWithCovariance> map_pose;
+  if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
+    const auto refined =
+        refinePose(board.T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
+    map_pose = poseWithCovariance(refined.T_camera_world, p_world, xy_map, focal_px_, refined.rms_px,
+                                  options_.fusion.min_pixel_sigma);
+    result->measured += static_cast<int>(p_world.size());
+  }
+  return fusion_.update(board_pose, map_pose).inverse();
+}
+
+void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy) {
   if (history_.empty()) return;
   const PosedFrame& prev = history_.back();
   const SE3 T_cur_prev = T_world_camera.inverse() * prev.T_world_camera;
@@ -148,12 +175,73 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, const std::ve
   std::vector<char> keep(features.size(), 1);
   for (size_t i = 0; i < features.size(); ++i) {
     const auto it = prev.xy_normalised.find(features[i].id);
-    if (it != prev.xy_normalised.end()) keep[i] = sampsonErrorSquared(E, it->second, xy[i]) <= max2;
+    if (it != prev.xy_normalised.end()) keep[i] = sampsonErrorSquared(E, it->second, (*xy)[i]) <= max2;
   }
   features_.keepOnly(keep);
+  size_t kept = 0;
+  for (size_t i = 0; i < keep.size(); ++i)
+    if (keep[i]) (*xy)[kept++] = (*xy)[i];
+  xy->resize(kept);
 }
 
 std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
+  const auto& features = features_.features();
+  // Map points seen now: their positions fix the scale and refine the pose.
+  std::vector<Vec3> p_world;
+  std::vector<Vec2> xy_map;
+  for (size_t i = 0; i < features.size(); ++i)
+    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
+  const bool map_usable = static_cast<int>(p_world.size()) >= options_.min_scale_points;
+
+  std::string essential_failure;
+  std::optional<SE3> T_world_essential = essentialPose(xy, &essential_failure, result);
+  if (!map_usable) {
+    if (!T_world_essential) result->reason = essential_failure;
+    return T_world_essential;
+  }
+  // The essential matrix alone is fragile: with most features near one plane (the board and its
+  // surround) a lateral translation trades for a rotation (the bas-relief ambiguity), and tiny
+  // baselines or pure rotations leave the translation undetermined. The map's points decide:
+  // the two-view motion and the last posed frame's pose (constant velocity when the previous
+  // frame was posed) both start a refinement on the map, and the one the map fits best stands.
+  struct Candidate {
+    SE3 T_camera_world;
+    double median_px;
+  };
+  auto refineOnMap = [&](const SE3& T_world_camera) {
+    const auto refined =
+        refinePose(T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
+    return Candidate{refined.T_camera_world,
+                     median(reprojectionErrorsPx(refined.T_camera_world, p_world, xy_map, focal_px_))};
+  };
+  std::optional<Candidate> from_essential;
+  if (T_world_essential) from_essential = refineOnMap(*T_world_essential);
+  const Candidate from_motion = refineOnMap(predictedPose());
+  const bool essential_wins = from_essential && from_essential->median_px <= from_motion.median_px;
+  const Candidate& best = essential_wins ? *from_essential : from_motion;
+  if (best.median_px > options_.max_map_error_px) {
+    result->reason = "two-view pose disagrees with the map (median " + std::to_string(best.median_px) + " px)";
+    return std::nullopt;
+  }
+  if (!essential_wins) {
+    result->measured = static_cast<int>(p_world.size());
+    result->reason = (T_world_essential ? std::string("the map rejects the two-view motion")
+                                        : essential_failure) + "; pose from the map's points";
+  }
+  return best.T_camera_world.inverse();
+}
+
+SE3 CslamTracker::predictedPose() const {
+  const PosedFrame& last = history_.back();
+  if (history_.size() < 2 || !last_pose_) return last.T_world_camera;
+  // Constant velocity over consecutive posed frames.
+  const PosedFrame& before = history_[history_.size() - 2];
+  if (last.index - before.index != 1) return last.T_world_camera;
+  return last.T_world_camera * (before.T_world_camera.inverse() * last.T_world_camera);
+}
+
+std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std::string* failure,
+                                               FrameResult* result) {
   const auto& features = features_.features();
   // Reference: the oldest recent posed frame (widest baseline) sharing enough features.
   const PosedFrame* ref = nullptr;
@@ -168,67 +256,63 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
     if (static_cast<int>(common.size()) >= options_.two_view.min_inliers) ref = &history_[h];
   }
   if (!ref) {
-    result->reason = "no recent posed frame shares enough features for two-view motion";
+    *failure = "no recent posed frame shares enough features for two-view motion";
     return std::nullopt;
   }
   std::vector<Vec2> xy_ref, xy_cur;
   for (int i : common) xy_ref.push_back(ref->xy_normalised.at(features[i].id)), xy_cur.push_back(xy[i]);
   const TwoViewResult motion = estimateTwoViewMotion(xy_ref, xy_cur, focal_px_, options_.two_view);
-
-  // Map points seen now: their positions fix the scale and refine the pose.
-  std::vector<Vec3> p_world;
-  std::vector<Vec2> xy_map;
-  for (size_t i = 0; i < features.size(); ++i)
-    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
-
-  SE3 T_cur_ref;
-  if (motion.ok) {
-    std::vector<char> keep(features.size(), 1);
-    for (size_t k = 0; k < common.size(); ++k) keep[common[k]] = motion.inliers[k];
-    // Metric scale (the map): depth of each map point in the reference camera over its depth
-    // triangulated with the unit baseline.
-    const SE3 T_ref_cur_unit = motion.T_b_a.inverse();
-    const SE3 T_ref_world = ref->T_world_camera.inverse();
-    std::vector<double> ratios;
-    for (size_t k = 0; k < common.size(); ++k) {
-      if (!motion.inliers[k]) continue;
-      const auto p = map_->position(features[common[k]].id);
-      if (!p) continue;
-      const Ray ray_ref{Vec3::Zero(), xy_ref[k].homogeneous().normalized()};
-      const Ray ray_cur = rayFromObservation(T_ref_cur_unit, xy_cur[k]);
-      Vec3 a, b;
-      if (!closestPointsOfRays(ray_ref, ray_cur, &a, &b)) continue;
-      const double depth_unit = 0.5 * (a + b).z();
-      const double depth_map = (T_ref_world * *p).z();
-      if (depth_unit > 0 && depth_map > 0) ratios.push_back(depth_map / depth_unit);
-    }
-    if (static_cast<int>(ratios.size()) < options_.min_scale_points) {
-      result->reason = "too few map points for the two-view scale (" + std::to_string(ratios.size()) + ")";
-      return std::nullopt;
-    }
-    T_cur_ref = SE3(motion.T_b_a.R(), median(ratios) * motion.T_b_a.t());
-    features_.keepOnly(keep);  // epipolar outliers
-    result->measured = motion.num_inliers;
-  } else if (motion.degenerate && static_cast<int>(p_world.size()) >= options_.min_scale_points) {
-    // Degenerate (tiny baseline, pure rotation): the rotation stands, the translation is left to
-    // the map's points.
-    T_cur_ref = SE3(motion.T_b_a.R(), Vec3::Zero());
-    result->measured = static_cast<int>(p_world.size());
-  } else {
-    result->reason = motion.reason;
+  if (!motion.ok) {
+    *failure = motion.reason;
     return std::nullopt;
   }
-  SE3 T_world_cur = ref->T_world_camera * T_cur_ref.inverse();
-  if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
-    const auto refined = refinePose(T_world_cur.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
-    const double err = median(reprojectionErrorsPx(refined.T_camera_world, p_world, xy_map, focal_px_));
-    if (err > options_.max_map_error_px) {
-      result->reason = "two-view pose disagrees with the map (median " + std::to_string(err) + " px)";
-      return std::nullopt;
-    }
-    T_world_cur = refined.T_camera_world.inverse();
+  // Metric scale (the map): depth of each map point in the reference camera over its depth
+  // triangulated with the unit baseline.
+  const SE3 T_ref_cur_unit = motion.T_b_a.inverse();
+  const SE3 T_ref_world = ref->T_world_camera.inverse();
+  std::vector<double> ratios;
+  for (size_t k = 0; k < common.size(); ++k) {
+    if (!motion.inliers[k]) continue;
+    const auto p = map_->position(features[common[k]].id);
+    if (!p) continue;
+    const Ray ray_ref{Vec3::Zero(), xy_ref[k].homogeneous().normalized()};
+    const Ray ray_cur = rayFromObservation(T_ref_cur_unit, xy_cur[k]);
+    Vec3 a, b;
+    if (!closestPointsOfRays(ray_ref, ray_cur, &a, &b)) continue;
+    const double depth_unit = 0.5 * (a + b).z();
+    const double depth_map = (T_ref_world * *p).z();
+    if (depth_unit > 0 && depth_map > 0) ratios.push_back(depth_map / depth_unit);
   }
-  return T_world_cur;
+  if (static_cast<int>(ratios.size()) < options_.min_scale_points) {
+    *failure = "too few map points for the two-view scale (" + std::to_string(ratios.size()) + ")";
+    return std::nullopt;
+  }
+  result->measured = motion.num_inliers;
+  const SE3 T_cur_ref(motion.T_b_a.R(), median(ratios) * motion.T_b_a.t());
+  return ref->T_world_camera * T_cur_ref.inverse();
+}
+
+FrameOverlay CslamTracker::overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const {
+  FrameOverlay o;
+  if (board)
+    for (const auto& c : board->uv) o.board_corners.emplace_back(c.x, c.y);
+  if (T_world_camera) {
+    const SE3 T_camera_world = T_world_camera->inverse();
+    const double axis = 1.5 * target_.square_size;
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(axis, 0, 0), Vec3(0, axis, 0), Vec3(0, 0, axis)}) {
+      const Vec3 p_camera = T_camera_world * p;
+      if (p_camera.z() <= 0) {
+        o.board_axes.clear();
+        break;
+      }
+      o.board_axes.push_back(camera_->project(p_camera));
+    }
+  }
+  for (const auto& f : features_.features())
+    o.features.push_back({f.id, Vec2(f.uv.x, f.uv.y), OverlayFeatureState::Inlier});
+  for (const auto& f : features_.dropped())
+    o.features.push_back({f.id, Vec2(f.uv.x, f.uv.y), OverlayFeatureState::Rejected});
+  return o;
 }
 
 FrameResult CslamTracker::track(const Frame& frame) {
@@ -240,13 +324,17 @@ FrameResult CslamTracker::track(const Frame& frame) {
 
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
-  if (use_board && (T_world_camera = boardPoseInFrame(frame.grey, &result))) result.status = TrackStatus::Board;
+  std::optional<BoardView> board;
+  if (use_board && (board = boardPoseInFrame(frame.grey, &result))) {
+    T_world_camera = board->T_world_camera;
+    result.status = TrackStatus::Board;
+  }
 
   if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
   std::vector<Vec2> xy = featuresNormalised();
 
   if (T_world_camera) {
-    dropEpipolarOutliers(*T_world_camera, xy);
+    // from the board
   } else if (mode_ == Mode::Calibration) {
     result.reason = "no board";
   } else if (history_.empty()) {
@@ -254,7 +342,14 @@ FrameResult CslamTracker::track(const Frame& frame) {
   } else if ((T_world_camera = twoViewPose(xy, &result))) {
     result.status = TrackStatus::TwoView;
   }
+  if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
+  if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
+    T_world_camera = fuseBoardAndMap(*board, xy, &result);
+  } else {
+    fusion_.reset();
+  }
 
+  if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
   features_.replenish(frame.grey);
   if (T_world_camera) {
     xy = featuresNormalised();
@@ -266,17 +361,28 @@ FrameResult CslamTracker::track(const Frame& frame) {
     }
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
-    if (mode_ == Mode::TwoView && map_->numUsable() >= options_.two_view_init_map_points)
+    if (mode_ == Mode::TwoView && two_view_board_phase_ &&
+        trackedMapPoints() >= options_.two_view_init_map_points)
       two_view_board_phase_ = false;
     result.T_world_camera = T_world_camera;
-    result.reason.clear();
     ++posed_frames_;
   }
   last_pose_ = T_world_camera;
-  if (!T_world_camera) result.status = TrackStatus::Lost;
+  if (!T_world_camera) {
+    result.status = TrackStatus::Lost;
+    // Two-view chaining broke: the board, when it comes back, starts the chain again.
+    if (mode_ == Mode::TwoView) two_view_board_phase_ = true;
+  }
+  for (const Feature& f : features_.dropped()) map_->forgetIfUnusable(f.id);
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;
+}
+
+int CslamTracker::trackedMapPoints() const {
+  int n = 0;
+  for (const Feature& f : features_.features()) n += map_->position(f.id).has_value();
+  return n;
 }
 
 std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context) {
@@ -286,7 +392,8 @@ std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context) {
   loadOptions(context.options, context.options_source, options);
   cv::Size size = context.image_size;
   if (context.camera) size = cv::Size(context.camera->width, context.camera->height);
-  return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options);
+  return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options,
+                                        context.want_overlay);
 }
 
 }  // namespace slamcmp

@@ -64,6 +64,11 @@ int FeatureMap::numUsable() const {
   return n;
 }
 
+void FeatureMap::forgetIfUnusable(int id) {
+  const auto it = entries_.find(id);
+  if (it != entries_.end() && !it->second.usable) entries_.erase(it);
+}
+
 std::vector<MapPoint> FeatureMap::points() const {
   std::vector<MapPoint> out;
   for (const auto& [id, e] : entries_)

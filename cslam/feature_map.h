@@ -36,6 +36,9 @@ class FeatureMap {
   // The feature's position when it is well determined (parallax, consistent rays, in front).
   std::optional<Vec3> position(int id) const;
   int numUsable() const;
+  // Forgets a feature that is no longer tracked and never became usable: it can gain no further
+  // observations, and keeping it would make the map grow with every feature ever detected.
+  void forgetIfUnusable(int id);
   std::vector<MapPoint> points() const;  // usable points only
 
  private:

@@ -51,10 +51,14 @@ class FeatureTracker {
   void clear() { features_.clear(); }
 
   const std::vector<Feature>& features() const { return features_; }
+  // The features dropped since the last track() by Lucas-Kanade, the forward-backward check or
+  // keepOnly, at their last position (for drawing).
+  const std::vector<Feature>& dropped() const { return dropped_; }
 
  private:
   FeatureTrackerOptions options_;
   std::vector<Feature> features_;
+  std::vector<Feature> dropped_;
   int next_id_ = 0;
 };
 

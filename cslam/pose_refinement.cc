@@ -16,9 +16,6 @@ void PoseRefinementOptions::check() const {
 
 namespace {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
 // Normal equations of the weighted residuals; returns the weighted cost (pixels^2).
 double accumulate(const SE3& T, const std::vector<Vec3>& p_world, const std::vector<Vec2>& xy,
                   double f, double huber, Mat6* H, Vec6* g) {
@@ -42,17 +39,31 @@ double accumulate(const SE3& T, const std::vector<Vec3>& p_world, const std::vec
     Jt << -skew(p), Mat3::Identity();
     const Eigen::Matrix<double, 2, 6> J = Jp * Jt;
     *H += w * J.transpose() * J;
-    *g += w * J.transpose() * r;
+    if (g) *g += w * J.transpose() * r;
   }
   return cost;
 }
 
-SE3 applyUpdate(const SE3& T, const Vec6& delta) {
+}  // namespace
+
+SE3 applyPoseDelta(const SE3& T, const Vec6& delta) {
   const Mat3 dR = rotationFromRotvec(delta.head<3>());
   return SE3(nearestRotation(dR * T.R()), dR * T.t() + delta.tail<3>());
 }
 
-}  // namespace
+Vec6 poseDifference(const SE3& T_to, const SE3& T_from) {
+  const Mat3 dR = T_to.R() * T_from.R().transpose();
+  Vec6 delta;
+  delta << rotvecFromRotation(dR), T_to.t() - dR * T_from.t();
+  return delta;
+}
+
+Mat6 reprojectionHessian(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
+                         const std::vector<Vec2>& xy_normalised, double focal_px) {
+  Mat6 H;
+  accumulate(T_camera_world, p_world, xy_normalised, focal_px, 0.0, &H, nullptr);
+  return H;
+}
 
 PoseRefinementResult refinePose(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
                                 const std::vector<Vec2>& xy_normalised, double focal_px,
@@ -71,7 +82,7 @@ PoseRefinementResult refinePose(const SE3& T_camera_world, const std::vector<Vec
       A.diagonal() *= 1.0 + lambda;
       const Vec6 delta = A.ldlt().solve(-g);
       if (!delta.allFinite()) break;
-      const SE3 candidate = applyUpdate(result.T_camera_world, delta);
+      const SE3 candidate = applyPoseDelta(result.T_camera_world, delta);
       const double c = accumulate(candidate, p_world, xy_normalised, focal_px, options.huber_px, nullptr, nullptr);
       if (c < cost) {
         const double gain = cost - c;

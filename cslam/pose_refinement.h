@@ -31,6 +31,20 @@ PoseRefinementResult refinePose(const SE3& T_camera_world, const std::vector<Vec
                                 const std::vector<Vec2>& xy_normalised, double focal_px,
                                 const PoseRefinementOptions& options);
 
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+// Gauss-Newton Hessian J^T J of the reprojection errors (pixels) at T_camera_world over the left
+// perturbation (rotation vector, translation) that refinePose uses: divided by the pixel noise
+// variance it is the pose's information matrix.
+Mat6 reprojectionHessian(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
+                         const std::vector<Vec2>& xy_normalised, double focal_px);
+
+// The left perturbation delta with T_to = exp(delta) T_from (rotation vector, translation), and
+// its inverse: T_from moved by delta.
+Vec6 poseDifference(const SE3& T_to, const SE3& T_from);
+SE3 applyPoseDelta(const SE3& T, const Vec6& delta);
+
 // Reprojection errors in pixels (normalised residual times focal_px); +inf for a point behind.
 std::vector<double> reprojectionErrorsPx(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
                                          const std::vector<Vec2>& xy_normalised, double focal_px);

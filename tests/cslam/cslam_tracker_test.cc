@@ -154,13 +154,58 @@ TEST(CslamTracker, RejectsAnUnknownModeAndMissingTarget) {
   EXPECT_THROW(makeCslamTracker(context), InputError);
 }
 
-// Rendered tv1 (first 60 frames), combined: every frame from the board, ATE under 1 mm and 0.1 deg.
+// Rendered tv1 (first 60 frames), combined: every frame from the board fused with the features'
+// motion, ATE under 0.9 mm and 0.07 deg (issue target 1 mm and 0.1 deg; measured 0.75 mm and
+// 0.054 deg, the board alone 0.78 mm).
 TEST(CslamTracker, Tv1CombinedUnderOneMillimetre) {
   TempDir dir;
   const RunStats s = runOn(render(dir, "tv1", 60), "combined", 60);
   EXPECT_EQ(s.posed, 60);
-  EXPECT_LT(s.ate_trans_rmse, 0.001);
-  EXPECT_LT(s.ate_rot_rmse_deg, 0.1);
+  EXPECT_LT(s.ate_trans_rmse, 0.0009);
+  EXPECT_LT(s.ate_rot_rmse_deg, 0.07);
+}
+
+// two_view mode on rendered tv4 (first 30 frames). Most features lie on the board's wall, so the
+// essential matrix is near-degenerate (planar scene) and trades the lateral motion for a rotation:
+// chaining it blindly lost every frame from frame 11 on. Every frame must be posed, by two-view
+// motion checked against the map, with drift under 1 % of the path (measured: 0.77 %).
+TEST(CslamTracker, Tv4TwoViewPosesEveryFrameOfAPlanarScene) {
+  TempDir dir;
+  const RunStats s = runOn(render(dir, "tv4", 30), "two_view", 30);
+  EXPECT_EQ(s.posed, 30);
+  EXPECT_GT(s.status.at(TrackStatus::TwoView), 15);
+  EXPECT_LT(s.last_error.t().norm(), 0.01 * s.path_length);
+}
+
+// The overlay of rendered frames: the board corners as detected lie within 0.5 px of the ground
+// truth projection, the axes start at the board origin's projection, tracked features are drawn.
+TEST(CslamTracker, OverlayBoardCornersMatchTheGroundTruth) {
+  TempDir dir;
+  Sequence seq = openSequence(render(dir, "tv1", 4));
+  CslamTracker tracker(seq.camera, *seq.target, seq.image_size, "combined", {}, true);
+  const std::vector<Vec3> corners = seq.target->cornersWorld();
+  Frame frame;
+  int frames = 0;
+  while (seq.frames->next(&frame)) {
+    const FrameResult r = tracker.track(frame);
+    ASSERT_TRUE(r.overlay);
+    const SE3 T_camera_world = (*seq.groundtruth)[frames++].T_world_camera.inverse();
+    ASSERT_EQ(r.overlay->board_corners.size(), corners.size());
+    for (size_t i = 0; i < corners.size(); ++i)
+      EXPECT_LT((r.overlay->board_corners[i] - seq.camera->project(T_camera_world * corners[i])).norm(), 0.5) << i;
+    ASSERT_EQ(r.overlay->board_axes.size(), 4u);
+    EXPECT_LT((r.overlay->board_axes[0] - seq.camera->project(T_camera_world * Vec3::Zero())).norm(), 0.5);
+    // Features are detected after the first frame's overlay, tracked from the second on.
+    if (frames > 1) {
+      EXPECT_GT(r.overlay->features.size(), 50u);
+    }
+  }
+  EXPECT_EQ(frames, 4);
+  // Without want_overlay nothing is filled.
+  Sequence again = openSequence(dir.file("tv1"));
+  CslamTracker plain(again.camera, *again.target, again.image_size, "combined", {});
+  ASSERT_TRUE(again.frames->next(&frame));
+  EXPECT_FALSE(plain.track(frame).overlay);
 }
 
 // two_view mode on rendered tv3 (first 60 frames): chained two-view drift under 1 % of the path.
@@ -172,13 +217,14 @@ TEST(CslamTracker, Tv3TwoViewDriftUnderOnePercent) {
   EXPECT_LT(s.last_error.t().norm(), 0.01 * s.path_length);
 }
 
-// board_leaves (first 120 frames: the camera pans off the board from about frame 88): the frames
-// without the board get two-view poses within 2 cm of the truth, or are lost.
-TEST(CslamTracker, BoardLeavesTwoViewWithinTwoCentimetres) {
+// board_leaves (first 120 frames: the camera pans off the board from about frame 88): every frame
+// is posed, those without the board by two-view motion within 3 mm of the truth (measured 1.3 mm).
+TEST(CslamTracker, BoardLeavesTwoViewWithinThreeMillimetres) {
   TempDir dir;
   const RunStats s = runOn(render(dir, "board_leaves", 120), "combined", 120, true, {}, TrackStatus::TwoView);
   ASSERT_GT(s.status.count(TrackStatus::TwoView) ? s.status.at(TrackStatus::TwoView) : 0, 10);
-  EXPECT_LT(s.max_trans, 0.02);
+  EXPECT_EQ(s.status.count(TrackStatus::Lost), 0u);
+  EXPECT_LT(s.max_trans, 0.003);
 }
 
 }  // namespace

@@ -1,0 +1,59 @@
+#include "cslam/board_odometry_fusion.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+void BoardOdometryFusionOptions::check() const {
+  if (!(min_pixel_sigma > 0)) throw InputError("fusion.min_pixel_sigma", "must be positive");
+  if (!(motion_noise_scale > 0)) throw InputError("fusion.motion_noise_scale", "must be positive");
+  if (!(max_mahalanobis2 > 0)) throw InputError("fusion.max_mahalanobis2", "must be positive");
+}
+
+PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
+                                      const std::vector<Vec2>& xy_normalised, double focal_px, double rms_px,
+                                      double min_sigma_px) {
+  const double n = static_cast<double>(p_world.size());
+  const double sigma2 = std::max(rms_px * rms_px * n / std::max(n - 6, 1.0), min_sigma_px * min_sigma_px);
+  const Mat6 H = reprojectionHessian(T_camera_world, p_world, xy_normalised, focal_px);
+  return {T_camera_world, sigma2 * H.inverse()};
+}
+
+void BoardOdometryFusion::reset() {
+  fused_.reset();
+  map_prev_.reset();
+}
+
+SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose) {
+  const std::optional<PoseWithCovariance> map_prev = map_prev_;
+  map_prev_ = map_pose;
+  if (!fused_ || !map_prev || !map_pose) {
+    fused_ = board;
+    return board.T_camera_world;
+  }
+  // Prediction: the previous fused pose moved by the features' motion (both map poses hold the
+  // map's error alike, so it cancels in their difference).
+  const SE3 motion = map_pose->T_camera_world * map_prev->T_camera_world.inverse();
+  PoseWithCovariance predicted{motion * fused_->T_camera_world,
+                               fused_->covariance + options_.motion_noise_scale * map_pose->covariance};
+  // Update with the board pose as the measurement (Kalman, in the tangent space of the prediction).
+  const Vec6 innovation = poseDifference(board.T_camera_world, predicted.T_camera_world);
+  // An innovation beyond the gate means the prediction is worse than its covariance says (the
+  // map moved, a missed frame): its covariance is inflated until the innovation fits (a fading
+  // memory), so a jump hands the pose to the board without losing the filter.
+  Eigen::LDLT<Mat6> S_ldlt(predicted.covariance + board.covariance);
+  for (int i = 0; i < 20; ++i) {
+    const double m2 = innovation.dot(S_ldlt.solve(innovation));
+    if (m2 <= options_.max_mahalanobis2) break;
+    predicted.covariance *= m2 / options_.max_mahalanobis2;
+    S_ldlt.compute(predicted.covariance + board.covariance);
+  }
+  const Mat6 K = predicted.covariance * S_ldlt.solve(Mat6::Identity());
+  fused_ = PoseWithCovariance{applyPoseDelta(predicted.T_camera_world, K * innovation),
+                              (Mat6::Identity() - K) * predicted.covariance};
+  return fused_->T_camera_world;
+}
+
+}  // namespace slamcmp
