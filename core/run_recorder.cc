@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <numeric>
+#include <regex>
 
 #include "core/error.h"
 #include "core/frames_csv.h"
@@ -23,12 +23,17 @@ TimingStats timingStats(std::vector<double> ms) {
   return s;
 }
 
+std::string reasonCategory(const std::string& reason) {
+  static const std::regex number(R"([-+]?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?)");
+  return std::regex_replace(reason, number, "#");
+}
+
 RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
     : out_dir_(out_dir), backend_(backend) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError(out_dir, "output folder cannot be created: " + ec.message());
-  const std::string traj = out_dir + "/trajectory.txt";
+  const std::string traj = trajectoryPath();
   trajectory_file_.open(traj);
   if (!trajectory_file_) throw InputError(traj, "cannot be written");
   trajectory_file_ << "# timestamp tx ty tz qx qy qz qw (T_world_camera, " << backend << ")\n";
@@ -48,13 +53,13 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
   ++frames_;
   ms_.push_back(ms);
   if (r.T_world_camera) {
-    trajectory_.push_back({frame.timestamp, *r.T_world_camera});
-    trajectory_file_ << formatTumLine(trajectory_.back()) << '\n';
+    ++tracked_;
+    trajectory_file_ << formatTumLine({frame.timestamp, *r.T_world_camera}) << '\n';
     trajectory_file_.flush();
   } else {
     ++lost_;
     if (!first_lost_frame_) first_lost_frame_ = frame.index;
-    ++lost_reasons_[r.reason.empty() ? std::string(toString(r.status)) : r.reason];
+    ++lost_reasons_[r.reason.empty() ? std::string(toString(r.status)) : reasonCategory(r.reason)];
   }
   writeRow(frame, r.T_world_camera ? r.status : (r.status == TrackStatus::Initialising
                                                      ? TrackStatus::Initialising
@@ -92,21 +97,6 @@ nlohmann::json RunRecorder::writeSummary(const nlohmann::json& extra) const {
   out << j.dump(2) << '\n';
   if (!out) throw InputError(path, "write failed");
   return j;
-}
-
-void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {
-  std::ofstream out(path);
-  if (!out) throw InputError(path, "cannot be written");
-  out << "ply\nformat ascii 1.0\ncomment slamcmp map, world (board) frame, metres\n"
-      << "element vertex " << points.size() << "\n"
-      << "property float x\nproperty float y\nproperty float z\n"
-      << "property int id\nproperty int observations\nproperty float sigma\nend_header\n";
-  char buf[160];
-  for (const auto& p : points) {
-    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6f\n", p.p_world.x(), p.p_world.y(),
-                  p.p_world.z(), p.id, p.observations, p.sigma);
-    out << buf;
-  }
 }
 
 }  // namespace slamcmp

@@ -1,7 +1,7 @@
 #pragma once
 // Writes a run's outputs (SPEC section 4): trajectory.txt and frames.csv line by line as frames
-// are tracked (an interrupted run leaves valid files for the frames done), summary.json and
-// map.ply at the end.
+// are tracked (an interrupted run leaves valid files for the frames done), summary.json at the
+// end (map.ply: core/map_ply.h).
 #include <fstream>
 #include <map>
 #include <optional>
@@ -20,6 +20,10 @@ struct TimingStats {
 };
 TimingStats timingStats(std::vector<double> ms);
 
+// A lost frame's reason with its numbers replaced by '#': summary.json counts lost frames by
+// category ("too few inliers (# of #)"), so the count stays small over any number of frames.
+std::string reasonCategory(const std::string& reason);
+
 class RunRecorder {
  public:
   // Creates `out_dir` (and parents); throws InputError if it cannot be written.
@@ -35,9 +39,11 @@ class RunRecorder {
   nlohmann::json writeSummary(const nlohmann::json& extra) const;
 
   const std::string& outDir() const { return out_dir_; }
-  const Trajectory& trajectory() const { return trajectory_; }
+  // trajectory.txt, complete up to the last recorded frame (the poses are not kept in memory, so
+  // a long run's memory stays flat).
+  std::string trajectoryPath() const { return out_dir_ + "/trajectory.txt"; }
   int frames() const { return frames_; }
-  int tracked() const { return static_cast<int>(trajectory_.size()); }
+  int tracked() const { return tracked_; }
 
  private:
   void writeRow(const Frame& frame, TrackStatus status, double ms, double decode_ms, int features,
@@ -47,15 +53,12 @@ class RunRecorder {
   std::string backend_;
   std::ofstream trajectory_file_;
   std::ofstream frames_file_;
-  Trajectory trajectory_;
   std::vector<double> ms_;
   int frames_ = 0;
+  int tracked_ = 0;
   int lost_ = 0;
   std::optional<int> first_lost_frame_;
   std::map<std::string, int> lost_reasons_;
 };
-
-// PLY (ASCII) with x y z, id, observations and sigma per point; MeshLab, CloudCompare, Open3D.
-void writeMapPly(const std::string& path, const std::vector<MapPoint>& points);
 
 }  // namespace slamcmp

@@ -17,11 +17,14 @@
 
 #include "core/error.h"
 #include "core/frames_csv.h"
+#include "core/map_ply.h"
 #include "core/progress.h"
 #include "core/sequence.h"
+#include "eval/map_metrics.h"
 #include "eval/plot.h"
 #include "eval/run_errors.h"
 #include "eval/run_sequence.h"
+#include "eval/scene_distance.h"
 #include "eval/thesis_tables.h"
 #include "eval/tracker_factory.h"
 
@@ -54,6 +57,7 @@ struct SequenceInfo {
   std::string path, name;
   int frames = 0;
   std::optional<Trajectory> groundtruth;
+  std::optional<SceneGeometry> scene;  // synthetic sequences: the true surfaces (scene.yaml)
 };
 
 // One method on one sequence, as read back from its output folder.
@@ -65,6 +69,8 @@ struct RunResult {
   std::vector<FrameRow> frames;
   Trajectory trajectory;
   std::optional<RunErrors> errors;
+  std::vector<MapPoint> map;             // map.ply, read back when the sequence has a scene
+  std::optional<MapEvaluation> map_errors;
 };
 
 // Colours and line styles by method, stable across figures (the thesis: calibration red,
@@ -107,6 +113,10 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   r.frames = readFramesCsv(dir + "/frames.csv");
   if (r.summary.value("tracked", 0) > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory);
+  if (seq.scene) {
+    r.map = readMapPly(dir + "/map.ply");
+    r.map_errors = evaluateMap(r.map, *seq.scene);
+  }
   return r;
 }
 
@@ -184,6 +194,64 @@ PlotSeries frameSeries(const std::string& label, const std::string& colour,
   return s;
 }
 
+// Each method's map from above (X-Z) and from the side (Z-Y, Y down), points coloured by their
+// distance to the nearest true surface, the board and the scene's other surfaces outlined.
+Figure mapFigure(const SequenceInfo& seq, const std::vector<RunResult>& runs) {
+  const double colour_max_mm = 20;
+  const std::vector<SceneSurface> surfaces = sceneSurfaces(*seq.scene);
+  Figure fig;
+  fig.title = seq.name + ": map points against the true scene (board frame)";
+  fig.columns = 2;
+  fig.panel_height_px = 420;
+  const std::pair<int, int> views[] = {{0, 2}, {2, 1}};
+  const char* names[] = {"top view (X-Z)", "side view (Z-Y, Y down)"};
+  const char* axis[] = {"X [m]", "Y [m]", "Z [m]"};
+  for (const RunResult& r : runs) {
+    if (!r.error.empty() || !r.map_errors) continue;
+    for (int v = 0; v < 2; ++v) {
+      const int a = views[v].first, b = views[v].second;
+      PlotPanel p;
+      p.title = r.method.label() + ": " + names[v];
+      p.xlabel = axis[a];
+      p.ylabel = axis[b];
+      p.equal_axes = true;
+      p.reverse_y = b == 1;
+      p.colour_max = colour_max_mm;
+      p.colour_label = "distance to the scene [mm]";
+      // Outlines: the board (it sets the view with the points) and the other surfaces near it.
+      for (int board = 1; board >= 0; --board) {
+        PlotSeries outline;
+        outline.label = board ? "board" : "scene";
+        outline.color = board ? "#555555" : "#bbbbbb";
+        outline.width = 1;
+        outline.fits_range = board;
+        for (size_t i = board ? 0 : 1; i < (board ? 1 : surfaces.size()); ++i) {
+          const SceneSurface& s = surfaces[i];
+          for (const Vec3& c : {s.origin, Vec3(s.origin + s.edge_u), Vec3(s.origin + s.edge_u + s.edge_v),
+                                Vec3(s.origin + s.edge_v), s.origin}) {
+            outline.x.push_back(c[a]);
+            outline.y.push_back(c[b]);
+          }
+          outline.x.push_back(NAN);
+          outline.y.push_back(NAN);
+        }
+        p.series.push_back(outline);
+      }
+      PlotSeries points;
+      points.label = std::to_string(r.map.size()) + " points, median " + fmt(r.map_errors->stats.median * 1e3) + " mm";
+      points.points = true;
+      for (size_t i = 0; i < r.map.size(); ++i) {
+        points.x.push_back(r.map[i].p_world[a]);
+        points.y.push_back(r.map[i].p_world[b]);
+        points.colour_by.push_back(r.map_errors->errors[i] * 1e3);
+      }
+      p.series.push_back(points);
+      fig.panels.push_back(p);
+    }
+  }
+  return fig;
+}
+
 std::vector<std::string> writeFigures(const SequenceInfo& seq, const std::vector<RunResult>& runs,
                                       const std::string& fig_dir) {
   std::vector<std::string> written;
@@ -249,6 +317,10 @@ std::vector<std::string> writeFigures(const SequenceInfo& seq, const std::vector
       fig.panels.push_back(p);
     }
     save(fig, "trajectory");
+  }
+  if (seq.scene) {
+    const Figure fig = mapFigure(seq, runs);
+    if (!fig.panels.empty()) save(fig, "map");
   }
   // X, Y, Z and r_x, r_y, r_z against frame number: thesis figures 3.8, 3.10, 3.12, 3.14.
   auto threeAxes = [&](const std::string& title, const char* const names[3], const std::string& unit,
@@ -341,7 +413,8 @@ std::string runCompare(const CompareOptions& options) {
   std::vector<SequenceInfo> seqs;
   for (const auto& path : options.sequences) {
     Sequence s = openSequence(path);
-    SequenceInfo info{path, s.name, s.frames->size(), s.groundtruth};
+    SequenceInfo info{path, s.name, s.frames->size(), s.groundtruth, std::nullopt};
+    if (const std::string scene = sceneFileOf(path); !scene.empty()) info.scene = readSceneYaml(scene);
     for (const auto& other : seqs)
       if (other.name == info.name) throw InputError(path, "two sequences are named '" + info.name + "'");
     seqs.push_back(std::move(info));
@@ -367,7 +440,7 @@ std::string runCompare(const CompareOptions& options) {
   t32 << "video,cslam_combined_ms,thesis_cslam_two_view_ms,cslam_calibration_ms,thesis_cslam_calibration_ms,"
          "monoslam_ms,thesis_monoslam_ms\n";
   acc << "video,method,frames,tracked,first_lost_frame,ate_trans_rmse_m,ate_rot_rmse_deg,rpe_trans_rmse_m,"
-         "rpe_rot_rmse_deg,ms_median,ms_p99\n";
+         "rpe_rot_rmse_deg,ms_median,ms_p99,map_points,map_median_m,map_rmse_m,map_max_m,map_within_1cm\n";
   md << "## Table 3.1: the sequences\n\n| video | frames | thesis frames | motion |\n|---|---|---|---|\n";
   for (const auto& s : seqs) {
     const auto tv = thesisVideo(s.name);
@@ -406,7 +479,7 @@ std::string runCompare(const CompareOptions& options) {
     for (const auto& r : results[s]) {
       if (!r.error.empty()) {
         md << "| " << seqs[s].name << " | " << r.method.label() << " | failed: " << r.error << " ||||||||\n";
-        acc << seqs[s].name << "," << r.method.label() << ",,,,,,,,,\n";
+        acc << seqs[s].name << "," << r.method.label() << ",,,,,,,,,,,,,,\n";
         continue;
       }
       const int frames = r.summary.value("frames", 0), tracked = r.summary.value("tracked", 0);
@@ -426,7 +499,13 @@ std::string runCompare(const CompareOptions& options) {
          << fmt(rpe_rot, 3) << " | " << fmt(med) << " | " << fmt(p99) << " |\n";
       acc << seqs[s].name << "," << r.method.label() << "," << frames << "," << tracked << ","
           << (fl.is_number() ? first_lost : "") << "," << ate << "," << ate_rot << "," << rpe << "," << rpe_rot
-          << "," << med << "," << p99 << "\n";
+          << "," << med << "," << p99 << ",";
+      if (r.map_errors) {
+        const MapErrorStats& m = r.map_errors->stats;
+        acc << m.points << "," << m.median << "," << m.rmse << "," << m.max << "," << m.within_1cm << "\n";
+      } else {
+        acc << ",,,,\n";
+      }
     }
   const auto tv_note = [&] {
     std::string note;
@@ -436,6 +515,22 @@ std::string runCompare(const CompareOptions& options) {
     return note;
   }();
   if (!tv_note.empty()) md << "\nThe thesis's MonoSLAM lost every feature on " << tv_note << ".\n";
+
+  if (std::any_of(seqs.begin(), seqs.end(), [](const SequenceInfo& s) { return s.scene.has_value(); })) {
+    md << "\n## Map accuracy against the scene's true surfaces (synthetic sequences)\n\n"
+       << "Distance of each point of map.ply to the nearest surface of scene.yaml (board, walls, box faces; "
+          "finite rectangles).\n\n"
+       << "| video | method | points | median [mm] | rmse [mm] | max [mm] | within 1 cm |\n"
+          "|---|---|---|---|---|---|---|\n";
+    for (size_t s = 0; s < seqs.size(); ++s)
+      for (const auto& r : results[s]) {
+        if (!r.map_errors) continue;
+        const MapErrorStats& m = r.map_errors->stats;
+        md << "| " << seqs[s].name << " | " << r.method.label() << " | " << m.points << " | " << fmt(m.median * 1e3)
+           << " | " << fmt(m.rmse * 1e3) << " | " << fmt(m.max * 1e3) << " | "
+           << (m.points ? fmt(100 * m.within_1cm, 0) + "%" : "-") << " |\n";
+      }
+  }
 
   md << "\n## Figures\n\n";
   for (size_t s = 0; s < seqs.size(); ++s) {

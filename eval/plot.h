@@ -12,6 +12,9 @@ struct PlotSeries {
   bool dashed = false;
   bool points = false;  // points instead of a line
   double width = 1.5;
+  std::vector<double> colour_by{};  // non-empty (with points): each point coloured by this value
+                                    // through the panel's colour bar instead of `color`
+  bool fits_range = true;         // false: not counted when an equal-axes panel fits its range
 };
 
 struct PlotPanel {
@@ -19,6 +22,9 @@ struct PlotPanel {
   std::vector<PlotSeries> series;
   bool equal_axes = false;  // same scale on x and y (trajectory views)
   bool log_y = false;
+  bool reverse_y = false;      // y grows downwards (the world's Y axis points down)
+  double colour_max = 0;       // > 0: colour bar from 0 to this (values above it take its colour)
+  std::string colour_label{};  // the colour bar's label
 };
 
 struct Figure {

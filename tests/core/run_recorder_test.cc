@@ -1,5 +1,5 @@
-// The run outputs of SPEC section 4: trajectory.txt, frames.csv, summary.json and map.ply, read
-// back as a user (or eval) would.
+// The run outputs of SPEC section 4: trajectory.txt, frames.csv and summary.json, read back as a
+// user (or eval) would (map.ply: map_ply_test.cc).
 #include "core/run_recorder.h"
 
 #include <gtest/gtest.h>
@@ -161,44 +161,17 @@ TEST(RunRecorder, TimingStatsOfKnownSamples) {
   EXPECT_EQ(none.max, 0.0);
 }
 
-TEST(RunRecorder, MapPlyHeaderAndVertices) {
-  test::TempDir dir;
-  std::vector<MapPoint> points(3);
-  for (int i = 0; i < 3; ++i) {
-    points[i].id = 10 + i;
-    points[i].p_world = Vec3(0.5 * i, -1.25, 2.0 + i);
-    points[i].observations = 4 * i;
-    points[i].sigma = i == 0 ? -1.0 : 0.01 * i;
-  }
-  const std::string path = dir.file("map.ply");
-  writeMapPly(path, points);
-  const auto lines = readLines(path);
-  ASSERT_GE(lines.size(), 4u);
-  EXPECT_EQ(lines[0], "ply");
-  EXPECT_EQ(lines[1], "format ascii 1.0");
-  const auto end = std::find(lines.begin(), lines.end(), "end_header");
-  ASSERT_NE(end, lines.end());
-  EXPECT_NE(std::find(lines.begin(), end, "element vertex 3"), end);
-  for (const char* p : {"property float x", "property float y", "property float z"})
-    EXPECT_NE(std::find(lines.begin(), end, p), end) << p;
-  ASSERT_EQ(lines.end() - end - 1, 3);
-  std::istringstream row(*(end + 3));
-  double x, y, z, sigma;
-  int id, observations;
-  row >> x >> y >> z >> id >> observations >> sigma;
-  EXPECT_EQ(x, 1.0);
-  EXPECT_EQ(y, -1.25);
-  EXPECT_EQ(z, 4.0);
-  EXPECT_EQ(id, 12);
-  EXPECT_EQ(observations, 8);
-  EXPECT_NEAR(sigma, 0.02, 1e-6);
-}
-
 TEST(RunRecorder, UnwritableOutputIsAnInputError) {
   test::TempDir dir;
   test::writeText(dir.file("file"), "x");
   EXPECT_THROW(RunRecorder(dir.file("file/run"), "cslam"), InputError);  // a file in the way
-  EXPECT_THROW(writeMapPly(dir.file("missing/map.ply"), {}), InputError);
+}
+
+TEST(RunRecorder, LostReasonsAreCountedByCategoryNotByTheirNumbers) {
+  EXPECT_EQ(reasonCategory("too few two-view inliers (12 of 140)"), "too few two-view inliers (# of #)");
+  EXPECT_EQ(reasonCategory("diverged: camera position std 1.25 m"), "diverged: camera position std # m");
+  EXPECT_EQ(reasonCategory("parallax 1e-3 px, step -0.5"), "parallax # px, step #");
+  EXPECT_EQ(reasonCategory("no board"), "no board");
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `slamcmp eval` through the real binary: the --json contract and the bad-input contract (exit
 // code 2, one stderr line).
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -96,6 +97,74 @@ TEST(CmdEval, BadAlignIsBadInput) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("--align"), std::string::npos) << r.err;
+}
+
+// A scene.yaml (a 1 m board on z = 0 and a wall at x = 2) and a map.ply of three points: on the
+// board, 5 mm in front of it, and 20 mm from the wall (beyond the board's edge, so not 0 as its
+// infinite plane would say).
+void writeMapAndScene(const TempDir& tmp) {
+  writeText(tmp.file("scene.yaml"),
+            "%YAML:1.0\n---\nboard:\n  name: board\n  origin: [0, 0, 0]\n  edge_u: [1, 0, 0]\n"
+            "  edge_v: [0, 1, 0]\n  normal: [0, 0, -1]\nsurfaces:\n  -\n    name: wall\n    origin: [2, 0, -1]\n"
+            "    edge_u: [0, 1, 0]\n    edge_v: [0, 0, 1]\n    normal: [-1, 0, 0]\n");
+  writeText(tmp.file("map.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+            "end_header\n0.5 0.5 0\n0.5 0.5 -0.005\n1.98 0.5 0\n");
+}
+
+TEST(CmdEval, MapAgainstSceneJson) {
+  TempDir tmp;
+  writeMapAndScene(tmp);
+  const auto r = runSlamcmp("eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("map")) << r.out;
+  EXPECT_FALSE(j.contains("ate"));
+  const nlohmann::json& m = j["map"];
+  EXPECT_EQ(m["points"], 3);
+  const double tol = 1e-6;  // the PLY holds floats
+  EXPECT_NEAR(m["median"].get<double>(), 0.005, tol);
+  EXPECT_NEAR(m["max"].get<double>(), 0.02, tol);
+  EXPECT_NEAR(m["rmse"].get<double>(), std::sqrt((25 + 400) * 1e-6 / 3), tol);
+  EXPECT_NEAR(m["within_1cm"].get<double>(), 2.0 / 3, 1e-12);
+  ASSERT_EQ(m["errors"].size(), 3u);
+  EXPECT_NEAR(m["errors"][0].get<double>(), 0.0, tol);
+  EXPECT_NEAR(m["errors"][2].get<double>(), 0.02, tol);
+}
+
+TEST(CmdEval, MapTableAndBothPairsAtOnce) {
+  TempDir tmp;
+  writeMapAndScene(tmp);
+  writePair(tmp, 1.0);
+  const std::string map_args = " --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml");
+  auto r = runSlamcmp("eval" + map_args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("map error (m)"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("ATE"), std::string::npos) << r.out;
+  r = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") + map_args +
+                 " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["ate"]["trans"]["rmse"].get<double>(), 0.1, 1e-9);
+  EXPECT_EQ(j["map"]["points"], 3);
+}
+
+TEST(CmdEval, HalfAPairIsBadUsage) {
+  TempDir tmp;
+  writeMapAndScene(tmp);
+  writePair(tmp, 1.0);
+  for (const std::string& args :
+       {"eval --map " + tmp.file("map.ply"), "eval --scene " + tmp.file("scene.yaml"),
+        "eval --groundtruth " + tmp.file("gt.txt") + " --map " + tmp.file("map.ply") + " --scene " +
+            tmp.file("scene.yaml"),
+        std::string("eval --json")}) {
+    const auto r = runSlamcmp(args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(lineCount(r.err), 1) << args << ": " << r.err;
+    EXPECT_TRUE(r.err.find("--scene") != std::string::npos || r.err.find("--map") != std::string::npos ||
+                r.err.find("--estimate") != std::string::npos)
+        << r.err;
+  }
 }
 
 }  // namespace

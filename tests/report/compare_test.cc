@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
@@ -44,7 +46,7 @@ namespace slamcmp {
 namespace {
 
 // Both back-ends on 20 frames of tv1: the report holds the thesis's tables with measured rows,
-// the accuracy table and five figures, and every run folder its outputs.
+// the accuracy and map accuracy tables and six figures, and every run folder its outputs.
 TEST(Compare, EndToEndOnShortTv1) {
   test::TempDir tmp;
   SynthOptions synth;
@@ -67,13 +69,22 @@ TEST(Compare, EndToEndOnShortTv1) {
   EXPECT_NE(report.find("| tv1 | 20 | 337 |"), std::string::npos) << report;
   EXPECT_NE(report.find("116.31"), std::string::npos);  // the thesis's figure beside ours
   EXPECT_EQ(report.find("failed:"), std::string::npos) << report;
-  for (const char* fig : {"trajectory", "xyz", "rotation", "error", "timing"})
+  EXPECT_NE(report.find("## Map accuracy"), std::string::npos) << report;
+  EXPECT_NE(report.find("![tv1_map](figures/tv1_map.png)"), std::string::npos) << report;
+  for (const char* fig : {"trajectory", "map", "xyz", "rotation", "error", "timing"})
     EXPECT_TRUE(std::filesystem::exists(tmp.file(std::string("out/figures/tv1_") + fig + ".png"))) << fig;
   for (const char* run : {"tv1-cslam", "tv1-cslam-calibration", "tv1-monoslam"})
     for (const char* file : {"trajectory.txt", "frames.csv", "summary.json", "map.ply"})
       EXPECT_TRUE(std::filesystem::exists(tmp.file(std::string("out/runs/") + run + "/" + file))) << run << file;
 
-  // accuracy.csv: one row per method, each with an ATE under 5 cm on this easy start.
+  // summary.json of a run on a synthetic sequence holds its map's error.
+  std::ifstream summary_file(tmp.file("out/runs/tv1-cslam/summary.json"));
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  ASSERT_TRUE(summary.contains("map")) << summary.dump();
+  EXPECT_TRUE(summary["map"].contains("within_1cm")) << summary.dump();
+
+  // accuracy.csv: one row per method, each with an ATE under 5 cm on this easy start, and a map
+  // whose median point lies within 2 cm of the true scene (the target for the EKF).
   std::ifstream acc(tmp.file("out/accuracy.csv"));
   std::string line;
   std::getline(acc, line);
@@ -81,9 +92,11 @@ TEST(Compare, EndToEndOnShortTv1) {
   while (std::getline(acc, line)) {
     ++rows;
     std::stringstream fields(line);
-    std::string f[6];
+    std::string f[16];
     for (auto& x : f) std::getline(fields, x, ',');
     EXPECT_LT(std::stod(f[5]), 0.05) << line;
+    EXPECT_GT(std::stoi(f[11]), 0) << line;
+    EXPECT_LT(std::stod(f[12]), 0.02) << line;
   }
   EXPECT_EQ(rows, 3);
 }

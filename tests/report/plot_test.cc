@@ -38,6 +38,31 @@ TEST(Plot, QuotesInLabelsAreEscaped) {
   EXPECT_NE(gnuplotScript(fig, "/tmp/x.png").find("\"say \\\"hi\\\"\""), std::string::npos);
 }
 
+// A map view: points coloured through the colour bar, an outline left out of the fitted range,
+// and Y growing downwards.
+TEST(Plot, ColouredPointsOutlineAndReversedY) {
+  Figure fig;
+  PlotPanel p{"map", "Z [m]", "Y [m]", {}, true, false};
+  p.reverse_y = true;
+  p.colour_max = 20;
+  p.colour_label = "error [mm]";
+  PlotSeries outline{"scene", {-5, 5}, {-5, 5}};
+  outline.fits_range = false;
+  PlotSeries points{"map", {0, 1}, {0, 2}};
+  points.points = true;
+  points.colour_by = {3, 25};
+  p.series = {outline, points};
+  fig.panels.push_back(p);
+  const std::string script = gnuplotScript(fig, "/tmp/x.png");
+  EXPECT_NE(script.find("$d0_1 << EOD\n0 0 3\n1 2 25\nEOD"), std::string::npos) << script;
+  EXPECT_NE(script.find("using 1:2:3 with points pt 7 ps 0.6 lc palette"), std::string::npos) << script;
+  EXPECT_NE(script.find("set cbrange [0:20]"), std::string::npos) << script;
+  EXPECT_NE(script.find("set cblabel \"error [mm]\""), std::string::npos) << script;
+  // The range is fitted to the points (y 0..2, half-width 0.55 * 2), not to the outline, and reversed.
+  EXPECT_NE(script.find("set yrange [2.1:-0.1]"), std::string::npos) << script;
+  EXPECT_NE(script.find("set xrange [-0.6:1.6]"), std::string::npos) << script;
+}
+
 TEST(Plot, WritesAPng) {
   test::TempDir tmp;
   const std::string path = tmp.file("fig.png");

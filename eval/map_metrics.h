@@ -1,0 +1,36 @@
+#pragma once
+// Map accuracy on synthetic sequences: the distance of every map point to the nearest true scene
+// surface (scene.yaml), summarised as rmse, median, max and the share within 1 cm.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tracker.h"
+#include "datasets/scene_yaml.h"
+
+namespace slamcmp {
+
+constexpr double kMapInlierDistance = 0.01;  // metres: "within 1 cm"
+
+struct MapErrorStats {
+  int points = 0;
+  double rmse = 0, median = 0, max = 0;  // metres; NaN when there are no points
+  double within_1cm = 0;                  // share of points within kMapInlierDistance, in [0, 1]
+};
+MapErrorStats mapErrorStats(std::vector<double> errors);
+
+struct MapEvaluation {
+  MapErrorStats stats;
+  std::vector<double> errors;  // metres, one per map point in the map's order
+  std::vector<int> nearest;    // the nearest surface of each point, an index into sceneSurfaces()
+};
+MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry& scene);
+
+// {points, rmse, median, max, within_1cm}; the statistics are null when there are no points.
+nlohmann::json mapStatsToJson(const MapErrorStats& stats);
+
+// <sequence folder>/scene.yaml when the sequence is a folder holding one, else "".
+std::string sceneFileOf(const std::string& sequence_path);
+
+}  // namespace slamcmp
