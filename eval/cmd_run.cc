@@ -26,6 +26,10 @@ void addRunCommand(CLI::App& app) {
       ->check(CLI::Range(0, std::numeric_limits<int>::max()));
   cmd->add_option("--mode", request->mode, "cslam: combined (default) | calibration | two_view");
   cmd->add_option("--init", request->init, "monoslam: board (default) | groundtruth | manual:FILE (a TUM pose)");
+  cmd->add_option("--overlay", request->overlay_path,
+                  "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
+                  "a folder of PNGs, with overlay.csv listing the drawn positions");
+  cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");
   cmd->callback([request] {
     installInterruptHandler();
     const nlohmann::json summary = runSequence(*request);

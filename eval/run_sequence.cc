@@ -7,10 +7,14 @@
 
 #include "core/error.h"
 #include "core/frame_prefetcher.h"
+#include "core/map_ply.h"
 #include "core/progress.h"
 #include "core/run_recorder.h"
 #include "core/sequence.h"
+#include "core/trajectory.h"
 #include "core/yaml.h"
+#include "eval/map_metrics.h"
+#include "eval/overlay_output.h"
 #include "eval/run_errors.h"
 #include "eval/tracker_factory.h"
 
@@ -52,10 +56,14 @@ std::string defaultRunDir(const std::string& sequence_name, const std::string& b
 }
 
 nlohmann::json runSequence(const RunRequest& request) {
+  if (request.show) requireDisplay();
   SequenceOpenOptions open_options;
   open_options.camera_path = request.camera_path;
   open_options.target_path = request.target_path;
   Sequence seq = openSequence(request.sequence_path, open_options);
+  // A synthetic sequence's true surfaces, read before tracking so a bad file stops the run early.
+  std::optional<SceneGeometry> scene;
+  if (const std::string scene_path = sceneFileOf(seq.path); !scene_path.empty()) scene = readSceneYaml(scene_path);
 
   TrackerContext context;
   context.camera = seq.camera;
@@ -63,6 +71,11 @@ nlohmann::json runSequence(const RunRequest& request) {
   context.mode = request.mode;
   context.image_size = seq.image_size;
   setInitialisation(request.init, seq, &context);
+  std::optional<OverlayOutput> overlay;
+  if (!request.overlay_path.empty() || request.show) {
+    overlay.emplace(request.overlay_path, request.show, seq.image_size);
+    context.want_overlay = true;
+  }
   std::unique_ptr<YamlFile> config;  // must outlive the tracker: context.options points into it
   if (!request.config_path.empty()) {
     config = std::make_unique<YamlFile>(request.config_path);
@@ -92,6 +105,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     const FrameResult result = tracker->track(d.frame);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     recorder.record(d.frame, result, ms, d.decode_ms);
+    if (overlay && !overlay->add(d.frame, result)) g_interrupted = true;  // q or Esc in the --show window
     if (request.progress) progress.update(recorder.frames(), toString(result.status));
     if (request.on_frame) request.on_frame();
   }
@@ -112,9 +126,10 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["init"] = request.init;
   extra["interrupted"] = interrupted();
   extra["options"] = tracker->options();
-  if (seq.groundtruth) {
+  if (seq.groundtruth && recorder.tracked() > 0) {
     try {
-      if (const auto errors = evaluateRun(*seq.groundtruth, recorder.trajectory())) {
+      const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
+      if (const auto errors = evaluateRun(*seq.groundtruth, estimate)) {
         extra["ate"] = errors->json["ate"];
         extra["rpe"] = errors->json["rpe"];
       }
@@ -122,7 +137,9 @@ nlohmann::json runSequence(const RunRequest& request) {
       extra["metrics_error"] = e.what();
     }
   }
-  writeMapPly(out_dir + "/map.ply", tracker->mapPoints());
+  const std::vector<MapPoint> map = tracker->mapPoints();
+  writeMapPly(out_dir + "/map.ply", map);
+  if (scene) extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
   return recorder.writeSummary(extra);
 }
 

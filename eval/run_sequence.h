@@ -19,6 +19,8 @@ struct RunRequest {
   std::string mode;           // back-end mode ("" = its default)
   std::string init = "board";  // board | groundtruth | manual:FILE
   bool progress = true;       // a progress line on a terminal
+  std::string overlay_path;   // run --overlay: video file or PNG folder of drawn frames; "" = none
+  bool show = false;          // run --show: the drawn frames in a live window
   std::function<void()> on_frame;  // called after each frame (compare's overall progress)
 };
 

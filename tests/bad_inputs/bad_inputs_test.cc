@@ -354,6 +354,56 @@ std::vector<BadCase> cases() {
                                " --align sideways",
                            {"--align", "sideways"}};
        }},
+      // run --overlay outputs that cannot be written.
+      runCase(
+          "OverlayFolderUnderRegularFile", [](const std::string&) {}, {"seq/rgb.txt/frames", "cannot be created"},
+          "--overlay {seq}/rgb.txt/frames"),
+      runCase(
+          "OverlayVideoUnderRegularFile", [](const std::string&) {}, {"seq/rgb.txt/clip.avi", "cannot be created"},
+          "--overlay {seq}/rgb.txt/clip.avi"),
+      runCase(
+          "OverlayUnsupportedContainer", [](const std::string&) {}, {"seq/clip.gif", "'.gif'", ".avi, .mp4, .mkv"},
+          "--overlay {seq}/clip.gif"),
+      // Maps and scenes given to eval --map --scene, and a run beside a spoilt scene.yaml.
+      {"MapPlyNotPly",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("map.ply"), "x y z\n0 0 0\n");
+         writeText(tmp.file("scene.yaml"), "%YAML:1.0\n---\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("map.ply") + ":1", "not a PLY file"}};
+       }},
+      {"MapPlyShortVertexLine",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("map.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n0 0 0\n1 2\n");
+         writeText(tmp.file("scene.yaml"), "%YAML:1.0\n---\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("map.ply") + ":9", "too few values"}};
+       }},
+      {"MapPlyBinaryCutShort",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("map.ply"),
+                   "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n0123456789ab0123");
+         writeText(tmp.file("scene.yaml"), "%YAML:1.0\n---\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("map.ply"), "ends before vertex 1 of 2"}};
+       }},
+      {"SceneYamlMissingEdge",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("map.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                   "property float z\nend_header\n0 0 0\n");
+         writeText(tmp.file("scene.yaml"),
+                   "%YAML:1.0\n---\nboard:\n  name: board\n  origin: [0, 0, 0]\n  edge_u: [1, 0, 0]\n"
+                   "  normal: [0, 0, -1]\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("scene.yaml"), "board.edge_v"}};
+       }},
+      runCase("RunSceneYamlWithoutBoard",
+              [](const std::string& seq) { writeText(seq + "/scene.yaml", "%YAML:1.0\n---\nsurfaces: []\n"); },
+              {"seq/scene.yaml", "board"}),
   };
 }
 
