@@ -8,53 +8,21 @@
 // the end of the sequence the tracker starts again (untimed).
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <opencv2/core/utility.hpp>
 
-#include "core/sequence.h"
-#include "datasets/synth_sequence.h"
+#include "benchmarks/bench_frames.h"
 #include "eval/tracker_factory.h"
 
 namespace slamcmp {
 namespace {
 
-struct BenchSequence {
-  std::string dir;
-  Sequence seq;
-  std::vector<Frame> frames;
-  std::vector<std::string> files;
-};
-
-const BenchSequence& benchSequence() {
-  static BenchSequence* s = [] {
-    auto* b = new BenchSequence;
-    SynthOptions synth;
-    synth.preset = std::getenv("SLAMCMP_BENCH_PRESET") ? std::getenv("SLAMCMP_BENCH_PRESET") : "tv1";
-    synth.frames = std::getenv("SLAMCMP_BENCH_FRAMES") ? std::atoi(std::getenv("SLAMCMP_BENCH_FRAMES")) : 120;
-    b->dir = (std::filesystem::temp_directory_path() / ("slamcmp-bench-" + synth.preset + "-" +
-                                                        std::to_string(synth.frames)))
-                 .string();
-    if (!std::filesystem::exists(b->dir + "/rgb.txt")) writeSyntheticSequence(synth, b->dir);
-    b->seq = openSequence(b->dir);
-    Frame f;
-    while (b->seq.frames->next(&f)) {
-      b->files.push_back(f.source);
-      b->frames.push_back(f);
-      f = Frame();
-    }
-    return b;
-  }();
-  return *s;
-}
-
 void BM_Track(benchmark::State& state, const std::string& backend, const std::string& mode) {
   cv::setNumThreads(1);  // one core, as Table 3.2 is quoted
-  const BenchSequence& b = benchSequence();
+  const BenchSequence& b = defaultRenderedSequence();
   TrackerContext context;
   context.camera = b.seq.camera;
   context.target = b.seq.target;
@@ -76,7 +44,7 @@ void BM_Track(benchmark::State& state, const std::string& backend, const std::st
 }
 
 void BM_DecodeFrame(benchmark::State& state) {
-  const BenchSequence& b = benchSequence();
+  const BenchSequence& b = defaultRenderedSequence();
   size_t i = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(readGreyImage(b.files[i]));

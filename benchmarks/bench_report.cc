@@ -1,0 +1,235 @@
+// Writes docs/benchmarks.md from Google Benchmark's JSON (bench_stages, bench_monoslam,
+// bench_tracking) and scripts/bench.sh's whole-run timings, beside the thesis's Table 3.2 as
+// eval/thesis_tables holds it (the one copy of the thesis's numbers).
+//
+//   bench_report --stages S.json --monoslam M.json --tracking T.json --runs RUNS.tsv
+//                --preset tv1 --machine "..." --out docs/benchmarks.md
+//
+// RUNS.tsv: one line per timed `slamcmp run`: "<backend>[/<mode>] <cores> <wall s> <user + system s>".
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "eval/thesis_tables.h"
+
+namespace slamcmp {
+namespace {
+
+struct Result {
+  double median = 0;  // CPU time, in `unit`
+  std::string unit;
+  std::map<std::string, double> counters;
+  std::string error;
+  bool from_aggregate = false;
+};
+
+// name -> median over repetitions (or the single run), in the order the file lists them.
+std::vector<std::pair<std::string, Result>> readBenchmarks(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  // Google Benchmark writes NaN and inf (e.g. the spread of a counter that is always 0), which
+  // JSON does not have.
+  static const std::regex kNotJson(R"(:\s*-?(nan|NaN|inf|Infinity)\b)");
+  const nlohmann::json j = nlohmann::json::parse(std::regex_replace(text.str(), kNotJson, ": null"));
+  std::vector<std::pair<std::string, Result>> out;
+  std::map<std::string, size_t> index;
+  static const std::vector<std::string> kNotCounters = {
+      "name", "family_index", "per_family_instance_index", "run_name", "run_type", "repetitions",
+      "repetition_index", "threads", "iterations", "real_time", "cpu_time", "time_unit", "aggregate_name",
+      "aggregate_unit", "error_occurred", "error_message"};
+  for (const auto& b : j.at("benchmarks")) {
+    std::string name = b.value("run_name", b.at("name").get<std::string>());
+    const size_t min_time = name.find("/min_time:");  // a benchmark's own MinTime, not part of its name
+    if (min_time != std::string::npos) name.erase(min_time);
+    const bool aggregate = b.value("run_type", "iteration") == "aggregate";
+    if (aggregate && b.value("aggregate_name", "") != "median") continue;
+    auto it = index.find(name);
+    if (it == index.end()) {
+      it = index.emplace(name, out.size()).first;
+      out.emplace_back(name, Result{});
+    }
+    Result& r = out[it->second].second;
+    if (b.value("error_occurred", false)) {
+      r.error = b.value("error_message", "error");
+      continue;
+    }
+    if (r.from_aggregate && !aggregate) continue;  // the median stands over any repetition
+    r.from_aggregate = aggregate;
+    r.median = b.at("cpu_time").get<double>();
+    r.unit = b.at("time_unit").get<std::string>();
+    for (const auto& [key, value] : b.items())
+      if (value.is_number() && std::find(kNotCounters.begin(), kNotCounters.end(), key) == kNotCounters.end())
+        r.counters[key] = value.get<double>();
+  }
+  return out;
+}
+
+double toMs(const Result& r) {
+  if (r.unit == "ns") return r.median * 1e-6;
+  if (r.unit == "us") return r.median * 1e-3;
+  if (r.unit == "s") return r.median * 1e3;
+  return r.median;
+}
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// Three significant figures or so, for times from nanoseconds to seconds.
+std::string figure(double v) { return fixed(v, v >= 100 ? 0 : v >= 10 ? 1 : v >= 1 ? 2 : 3); }
+
+std::string counters(const Result& r) {
+  std::string s;
+  for (const auto& [key, value] : r.counters) {
+    if (key == "frames_per_s") continue;
+    s += (s.empty() ? "" : ", ") + key + " " + figure(value);
+  }
+  return s;
+}
+
+void stageTable(std::ostream& out, const std::vector<std::pair<std::string, Result>>& results) {
+  out << "| benchmark | median | per iteration |\n|---|---|---|\n";
+  for (const auto& [name, r] : results) {
+    if (!r.error.empty()) {
+      out << "| " << name << " | skipped: " << r.error << " | |\n";
+      continue;
+    }
+    out << "| " << name << " | " << figure(r.median) << " " << r.unit << " | " << counters(r) << " |\n";
+  }
+}
+
+const Result* find(const std::vector<std::pair<std::string, Result>>& results, const std::string& name) {
+  for (const auto& [n, r] : results)
+    if (n == name && r.error.empty()) return &r;
+  return nullptr;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int run(int argc, char** argv) {
+  std::map<std::string, std::string> args;
+  for (int i = 1; i + 1 < argc; i += 2) args[argv[i]] = argv[i + 1];
+  for (const char* key : {"--stages", "--monoslam", "--tracking", "--runs", "--preset", "--machine", "--out"})
+    if (!args.count(key)) {
+      std::cerr << "bench_report: missing " << key << "\n";
+      return 2;
+    }
+  const auto stages = readBenchmarks(args["--stages"]);
+  const auto monoslam = readBenchmarks(args["--monoslam"]);
+  const auto tracking = readBenchmarks(args["--tracking"]);
+  const std::string preset = args["--preset"];
+  const auto thesis = thesisVideo(preset);
+
+  std::ostringstream out;
+  out << "# Benchmarks\n\nWritten by `scripts/bench.sh` (Release, Google Benchmark, medians of CPU time over "
+         "repetitions, each benchmark pinned to one core, OpenCV on one thread, image decoding excluded "
+         "unless named). "
+      << args["--machine"] << "\n\n";
+
+  out << "## Per frame, whole " << preset << " sequence (bench_tracking)\n\n"
+      << "| back-end | ms per frame (median) | target | thesis Table 3.2, " << preset
+      << " (ms) | thesis / here |\n|---|---|---|---|---|\n";
+  const auto trackingRow = [&](const std::string& bench, const std::string& label, const char* target,
+                               std::optional<double> thesis_ms) {
+    const Result* r = find(tracking, bench);
+    if (!r) return;
+    const double ms = toMs(*r);
+    out << "| " << label << " | " << figure(ms) << " | " << target << " | "
+        << (thesis_ms ? fixed(*thesis_ms, 2) : "-") << " | " << (thesis_ms ? fixed(*thesis_ms / ms, 0) + "x" : "-")
+        << " |\n";
+  };
+  trackingRow("BM_Track/cslam/combined", "cslam combined", "< 2",
+              thesis ? std::optional<double>(thesis->ms_cslam_two_view) : std::nullopt);
+  trackingRow("BM_Track/cslam/calibration", "cslam calibration", "",
+              thesis ? std::optional<double>(thesis->ms_cslam_calibration) : std::nullopt);
+  trackingRow("BM_Track/cslam/two_view", "cslam two_view", "", std::nullopt);
+  trackingRow("BM_Track/monoslam", "monoslam", "< 3 (100-feature map)",
+              thesis ? std::optional<double>(thesis->ms_monoslam) : std::nullopt);
+  if (const Result* r = find(tracking, "BM_DecodeFrame"))
+    out << "| decoding one frame (PNG) | " << figure(toMs(*r)) << " | | | |\n";
+  out << "\nThe thesis's columns: CSLAM with two-view (beside `combined`), CSLAM without two-view "
+         "(beside `calibration`), MonoSLAM; on an Athlon 64 X2 dual core (2009), unoptimised, its "
+         "videos rather than these renders.\n\n";
+
+  // Whole runs against decoding alone.
+  std::ifstream runs_in(args["--runs"]);
+  if (!runs_in) throw std::runtime_error(args["--runs"] + ": cannot be read");
+  struct Timed {
+    std::vector<double> wall, cpu;
+  };
+  std::map<std::pair<std::string, std::string>, Timed> runs;  // (what, cores) -> seconds
+  std::string what, cores;
+  double wall, cpu;
+  while (runs_in >> what >> cores >> wall >> cpu) {
+    runs[{what, cores}].wall.push_back(wall);
+    runs[{what, cores}].cpu.push_back(cpu);
+  }
+  const Result* decode = find(stages, "BM_DecodeSequence/tv1");
+  out << "## Whole `slamcmp run` against decoding the same files (" << preset << ", 120 frames)\n\n";
+  if (decode) {
+    const double decode_s = toMs(*decode) / 1e3;
+    out << "Decoding alone (`BM_DecodeSequence`: the files read through `openSequence`, one thread): "
+        << fixed(decode_s, 3)
+        << " s of CPU. A run is the whole process (start, the decode-ahead thread, tracking, outputs, "
+           "metrics); medians. On one core the target is judged by the CPU ratio (user + system time of "
+           "the run over the decoding's CPU time: the one-core wall ratio of an idle machine, steadier "
+           "under load); on all cores by the wall ratio, where decoding ahead overlaps tracking.\n\n"
+        << "| run | cores | wall s | CPU s | wall / decode | CPU / decode | target |\n|---|---|---|---|---|---|---|\n";
+    for (const auto& [key, t] : runs) {
+      const double ratio = median(t.wall) / decode_s, cpu_ratio = median(t.cpu) / decode_s;
+      const double target = key.first.rfind("cslam", 0) == 0 ? 1.2 : 1.5;
+      out << "| " << key.first << " | " << key.second << " | " << fixed(median(t.wall), 3) << " | "
+          << fixed(median(t.cpu), 3) << " | " << fixed(ratio, 2) << " | " << fixed(cpu_ratio, 2) << " | ";
+      if (key.first == "process_start")
+        out << "(`slamcmp --help`: loading OpenCV's libraries) |\n";
+      else
+        out << fixed(target, 1) << "x: " << ((key.second == "1" ? cpu_ratio : ratio) <= target ? "met" : "missed")
+            << " |\n";
+    }
+  } else {
+    out << "BM_DecodeSequence/tv1 did not run: no ratio.\n";
+  }
+
+  out << "\n## CSLAM stages (bench_stages)\n\n"
+         "tv1: the rendered preset (640x480 PNG); board_leaves: frames with no board corner in view; "
+         "vamr: the first 60 frames of ../shared/datasets/vamr_checkerboard (752x480 JPEG). Counters "
+         "are per iteration (found: board found; points: features in; kept, inliers: out).\n\n";
+  stageTable(out, stages);
+  out << "\n## MonoSLAM EKF stages (bench_monoslam), N map features\n\n";
+  stageTable(out, monoslam);
+
+  std::ofstream file(args["--out"]);
+  file << out.str();
+  if (!file) throw std::runtime_error(args["--out"] + ": cannot be written");
+  std::cout << out.str();
+  return 0;
+}
+
+}  // namespace
+}  // namespace slamcmp
+
+int main(int argc, char** argv) {
+  try {
+    return slamcmp::run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_report: " << e.what() << "\n";
+    return 1;
+  }
+}
