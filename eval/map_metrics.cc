@@ -33,18 +33,22 @@ MapErrorStats mapErrorStats(std::vector<double> errors) {
 MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry& scene) {
   const std::vector<SceneSurface> surfaces = sceneSurfaces(scene);
   MapEvaluation e;
+  std::vector<double> estimated;
   for (const MapPoint& p : map) {
     const NearestSurface nearest = nearestSurface(p.p_world, surfaces);
     e.errors.push_back(nearest.distance);
     e.nearest.push_back(nearest.index);
+    if (p.sigma != 0) estimated.push_back(nearest.distance);
   }
-  e.stats = mapErrorStats(e.errors);
+  e.stats = mapErrorStats(estimated);
+  e.stats.known = static_cast<int>(map.size() - estimated.size());
   return e;
 }
 
 nlohmann::json mapStatsToJson(const MapErrorStats& s) {
   auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
   return {{"points", s.points},
+          {"known", s.known},
           {"rmse", number(s.rmse)},
           {"median", number(s.median)},
           {"max", number(s.max)},

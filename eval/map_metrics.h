@@ -14,7 +14,8 @@ namespace slamcmp {
 constexpr double kMapInlierDistance = 0.01;  // metres: "within 1 cm"
 
 struct MapErrorStats {
-  int points = 0;
+  int points = 0;  // estimated points scored
+  int known = 0;   // points given to the back-end exactly (sigma 0, e.g. EKF's board corners): not scored
   double rmse = 0, median = 0, max = 0;  // metres; NaN when there are no points
   double within_1cm = 0;                  // share of points within kMapInlierDistance, in [0, 1]
 };
@@ -25,9 +26,11 @@ struct MapEvaluation {
   std::vector<double> errors;  // metres, one per map point in the map's order
   std::vector<int> nearest;    // the nearest surface of each point, an index into sceneSurfaces()
 };
+// Every point gets its error; the statistics leave out the known points (sigma exactly 0), which
+// would score 0 by construction and flatter a small map.
 MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry& scene);
 
-// {points, rmse, median, max, within_1cm}; the statistics are null when there are no points.
+// {points, known, rmse, median, max, within_1cm}; the statistics are null when there are no points.
 nlohmann::json mapStatsToJson(const MapErrorStats& stats);
 
 // <sequence folder>/scene.yaml when the sequence is a folder holding one, else "".

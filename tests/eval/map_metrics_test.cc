@@ -65,6 +65,21 @@ TEST(MapMetrics, RoomSceneThroughSceneYaml) {
   EXPECT_NEAR(j["max"].get<double>(), 0.005, 1e-12);
 }
 
+TEST(MapMetrics, KnownPointsAreDrawnButNotScored) {
+  SceneGeometry scene;
+  scene.board = {"board", Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -1)};
+  const std::vector<MapPoint> map = {{0, Vec3(0.5, 0.5, 0.0), 0, 0.0},    // known: sigma exactly 0
+                                     {1, Vec3(0.5, 0.5, 0.002), 5, 0.01},  // estimated, 2 mm off
+                                     {2, Vec3(0.5, 0.5, -0.004), 5, -1}};  // sigma unknown, 4 mm off
+  const MapEvaluation e = evaluateMap(map, scene);
+  ASSERT_EQ(e.errors.size(), 3u);
+  EXPECT_NEAR(e.errors[0], 0.0, 1e-15);
+  EXPECT_EQ(e.stats.points, 2);
+  EXPECT_EQ(e.stats.known, 1);
+  EXPECT_NEAR(e.stats.median, 0.003, 1e-12);
+  EXPECT_EQ(mapStatsToJson(e.stats)["known"].get<int>(), 1);
+}
+
 TEST(MapMetrics, SceneFileOfASequenceFolder) {
   test::TempDir dir;
   EXPECT_EQ(sceneFileOf(dir.path()), "");
