@@ -24,7 +24,8 @@ void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {
       << "property int id\nproperty int observations\nproperty float sigma\nend_header\n";
   char buf[160];
   for (const auto& p : points) {
-    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6f\n", p.p_world.x(), p.p_world.y(),
+    // sigma with significant digits, not decimals: a tiny one must not read back as 0 (known).
+    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6g\n", p.p_world.x(), p.p_world.y(),
                   p.p_world.z(), p.id, p.observations, p.sigma);
     out << buf;
   }
@@ -152,6 +153,10 @@ PlyHeader readHeader(std::istream& in, const std::string& path) {
     }
   }
   if (!has_format) throw InputError(path, "the PLY header has no format line");
+  // An element without properties takes no bytes: a huge count of it would spin, not fail.
+  for (const PlyElement& e : h.elements)
+    if (e.count > 0 && e.properties.empty())
+      throw InputError(path, "element '" + e.name + "' has " + std::to_string(e.count) + " instances but no properties");
   return h;
 }
 

@@ -15,10 +15,11 @@ void BoardOdometryFusionOptions::check() const {
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
                                       const std::vector<Vec2>& xy_normalised, double focal_px, double rms_px,
                                       double min_sigma_px) {
+  // rms_px is the RMS of the 2-D residual: 2n coordinates, 6 pose parameters fitted.
   const double n = static_cast<double>(p_world.size());
-  const double sigma2 = std::max(rms_px * rms_px * n / std::max(n - 6, 1.0), min_sigma_px * min_sigma_px);
+  const double sigma2 = std::max(rms_px * rms_px * n / std::max(2 * n - 6, 1.0), min_sigma_px * min_sigma_px);
   const Mat6 H = reprojectionHessian(T_camera_world, p_world, xy_normalised, focal_px);
-  return {T_camera_world, sigma2 * H.inverse()};
+  return {T_camera_world, sigma2 * H.completeOrthogonalDecomposition().pseudoInverse()};
 }
 
 void BoardOdometryFusion::reset() {
@@ -34,7 +35,8 @@ SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::opti
     return board.T_camera_world;
   }
   // Prediction: the previous fused pose moved by the features' motion (both map poses hold the
-  // map's error alike, so it cancels in their difference).
+  // map's error alike, so it cancels in their difference). The covariance is carried over without
+  // the motion's adjoint: frame-to-frame motion is small.
   const SE3 motion = map_pose->T_camera_world * map_prev->T_camera_world.inverse();
   PoseWithCovariance predicted{motion * fused_->T_camera_world,
                                fused_->covariance + options_.motion_noise_scale * map_pose->covariance};
@@ -51,8 +53,8 @@ SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::opti
     S_ldlt.compute(predicted.covariance + board.covariance);
   }
   const Mat6 K = predicted.covariance * S_ldlt.solve(Mat6::Identity());
-  fused_ = PoseWithCovariance{applyPoseDelta(predicted.T_camera_world, K * innovation),
-                              (Mat6::Identity() - K) * predicted.covariance};
+  const Mat6 P = (Mat6::Identity() - K) * predicted.covariance;
+  fused_ = PoseWithCovariance{applyPoseDelta(predicted.T_camera_world, K * innovation), 0.5 * (P + P.transpose())};
   return fused_->T_camera_world;
 }
 

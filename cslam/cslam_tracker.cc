@@ -333,14 +333,14 @@ FrameResult CslamTracker::track(const Frame& frame) {
   if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
   std::vector<Vec2> xy = featuresNormalised();
 
-  if (T_world_camera) {
-    // from the board
-  } else if (mode_ == Mode::Calibration) {
-    result.reason = "no board";
-  } else if (history_.empty()) {
-    result.reason = "no board yet: the world frame is not set";
-  } else if ((T_world_camera = twoViewPose(xy, &result))) {
-    result.status = TrackStatus::TwoView;
+  if (!T_world_camera) {
+    if (mode_ == Mode::Calibration) {
+      result.reason = "no board";
+    } else if (history_.empty()) {
+      result.reason = "no board yet: the world frame is not set";
+    } else if ((T_world_camera = twoViewPose(xy, &result))) {
+      result.status = TrackStatus::TwoView;
+    }
   }
   if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
   if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
@@ -373,7 +373,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
     // Two-view chaining broke: the board, when it comes back, starts the chain again.
     if (mode_ == Mode::TwoView) two_view_board_phase_ = true;
   }
-  for (const Feature& f : features_.dropped()) map_->forgetIfUnusable(f.id);
+  for (const int id : features_.ended()) map_->forgetIfUnusable(id);
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;

@@ -25,6 +25,7 @@ FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(
 void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::vector<cv::Mat>& pyramid,
                            cv::Size lk_window, int lk_levels) {
   dropped_.clear();
+  ended_.clear();
   if (features_.empty()) return;
   std::vector<cv::Point2f> prev, next, back;
   prev.reserve(features_.size());
@@ -49,9 +50,13 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
     const cv::Point2f d = back[i] - prev[i];
     if (!status[i] || !status_back[i] || d.dot(d) > fb2) {
       dropped_.push_back(features_[i]);
+      ended_.push_back(features_[i].id);
       continue;
     }
-    if (p.x < b || p.y < b || p.x > size.width - 1 - b || p.y > size.height - 1 - b) continue;
+    if (p.x < b || p.y < b || p.x > size.width - 1 - b || p.y > size.height - 1 - b) {
+      ended_.push_back(features_[i].id);
+      continue;
+    }
     kept.push_back({features_[i].id, p});
   }
   features_ = std::move(kept);
@@ -60,7 +65,14 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
 void FeatureTracker::keepOnly(const std::vector<char>& keep) {
   CV_Assert(keep.size() == features_.size());
   std::vector<Feature> kept;
-  for (size_t i = 0; i < features_.size(); ++i) (keep[i] ? kept : dropped_).push_back(features_[i]);
+  for (size_t i = 0; i < features_.size(); ++i) {
+    if (keep[i]) {
+      kept.push_back(features_[i]);
+    } else {
+      dropped_.push_back(features_[i]);
+      ended_.push_back(features_[i].id);
+    }
+  }
   features_ = std::move(kept);
 }
 

@@ -54,11 +54,14 @@ class FeatureTracker {
   // The features dropped since the last track() by Lucas-Kanade, the forward-backward check or
   // keepOnly, at their last position (for drawing).
   const std::vector<Feature>& dropped() const { return dropped_; }
+  // The ids of every feature that ended since the last track(): dropped, or left the image.
+  const std::vector<int>& ended() const { return ended_; }
 
  private:
   FeatureTrackerOptions options_;
   std::vector<Feature> features_;
   std::vector<Feature> dropped_;
+  std::vector<int> ended_;
   int next_id_ = 0;
 };
 

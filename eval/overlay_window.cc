@@ -42,6 +42,10 @@ void requireDisplay() {
   const std::string x11 = environment("DISPLAY"), wayland = environment("WAYLAND_DISPLAY");
   if (x11.empty() && wayland.empty())
     throw InputError("--show", std::string("needs a display (DISPLAY and WAYLAND_DISPLAY are unset)") + kHint);
+  // Qt picks its X11 plugin unless told otherwise, and aborts without an X display.
+  if (gui.rfind("QT", 0) == 0 && x11.empty() && environment("QT_QPA_PLATFORM").empty())
+    throw InputError("--show", std::string("needs an X display for OpenCV's Qt windows (DISPLAY is unset; set "
+                                           "QT_QPA_PLATFORM=wayland to use Wayland)") + kHint);
   // A local X display ":N" whose socket is gone (a stale DISPLAY) would make the GUI toolkit abort.
   if (wayland.empty() && x11[0] == ':') {
     const std::string socket = "/tmp/.X11-unix/X" + x11.substr(1, x11.find('.') - 1);

@@ -71,11 +71,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   context.mode = request.mode;
   context.image_size = seq.image_size;
   setInitialisation(request.init, seq, &context);
-  std::optional<OverlayOutput> overlay;
-  if (!request.overlay_path.empty() || request.show) {
-    overlay.emplace(request.overlay_path, request.show, seq.image_size);
-    context.want_overlay = true;
-  }
+  context.want_overlay = !request.overlay_path.empty() || request.show;
   std::unique_ptr<YamlFile> config;  // must outlive the tracker: context.options points into it
   if (!request.config_path.empty()) {
     config = std::make_unique<YamlFile>(request.config_path);
@@ -83,6 +79,9 @@ nlohmann::json runSequence(const RunRequest& request) {
     context.options_source = request.config_path + ": " + request.backend;
   }
   std::unique_ptr<Tracker> tracker = makeTracker(request.backend, context);
+  // Created once the options and the back-end are known good: a bad --config leaves no video behind.
+  std::optional<OverlayOutput> overlay;
+  if (context.want_overlay) overlay.emplace(request.overlay_path, request.show, seq.image_size);
 
   const std::string out_dir =
       request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
@@ -95,7 +94,8 @@ nlohmann::json runSequence(const RunRequest& request) {
   FramePrefetcher frames(*seq.frames, request.max_frames);
   DecodedFrame d;
   int decoded_ok = 0;
-  while (!interrupted() && frames.next(&d)) {
+  bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
+  while (!interrupted() && !quit && frames.next(&d)) {
     if (d.frame.grey.empty()) {
       recorder.recordUndecodable(d.frame, d.decode_ms);
       continue;
@@ -105,14 +105,14 @@ nlohmann::json runSequence(const RunRequest& request) {
     const FrameResult result = tracker->track(d.frame);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     recorder.record(d.frame, result, ms, d.decode_ms);
-    if (overlay && !overlay->add(d.frame, result)) g_interrupted = true;  // q or Esc in the --show window
+    if (overlay && !overlay->add(d.frame, result)) quit = true;
     if (request.progress) progress.update(recorder.frames(), toString(result.status));
     if (request.on_frame) request.on_frame();
   }
   progress.finish();
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
-  if (!interrupted()) {
+  if (!interrupted() && !quit) {
     try {
       tracker->finish();
     } catch (const InputError& e) {  // the back-end cannot know the path: name it here
@@ -124,7 +124,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["sequence"] = seq.path;
   extra["mode"] = request.mode;
   extra["init"] = request.init;
-  extra["interrupted"] = interrupted();
+  extra["interrupted"] = interrupted() || quit;
   extra["options"] = tracker->options();
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {

@@ -52,8 +52,8 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
   return 0.5 * (S + S.transpose());
 }
 
-void batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma) {
-  if (observations.empty()) return;
+bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma) {
+  if (observations.empty()) return true;
   const int m = static_cast<int>(observations.size()), n = state.size();
   Eigen::MatrixXd& P = state.P();
   // P H^T (n x 2m): H is non-zero only over (r, q) and each observed point.
@@ -75,12 +75,14 @@ void batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
 
   const Eigen::LLT<Eigen::MatrixXd> llt(S.selfadjointView<Eigen::Lower>());
+  if (llt.info() != Eigen::Success) return false;
   llt.matrixL().solveInPlace(nu);                           // L^-1 nu
   llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);          // W <- P H^T L^-T (U = L^T)
   state.x().noalias() += W * nu;                     // K nu = P H^T S^-1 nu
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);  // P -= K S K^T = W W^T
   for (int j = 1; j < n; ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
+  return true;
 }
 
 }  // namespace slamcmp

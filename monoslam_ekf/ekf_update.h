@@ -27,6 +27,7 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 // With S = L L^T and W = P H^T L^-T: x += W L^-1 (z - h) and P -= W W^T, a symmetric rank-2m
 // update of P's lower triangle mirrored to the upper (O(n^2 m), half the flops of K (P H^T)^T,
 // and P stays exactly symmetric; the Joseph form would cost O(n^3)).
-void batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
+// Returns false, leaving the state untouched, when S is not positive definite.
+bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
 
 }  // namespace slamcmp

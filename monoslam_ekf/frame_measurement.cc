@@ -119,13 +119,15 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     observations.erase(observations.begin() + worst);
     observed_slot.erase(observed_slot.begin() + worst);
   }
+  // An innovation covariance that is not positive definite means the filter's numbers broke: no
+  // update, and the frame counts as unmeasured (the health check then ends the run of frames).
+  if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
   for (size_t k = 0; k < observations.size(); ++k) {
     FeatureSearch& s = out.features[observed_slot[k]];
     s.outcome = SearchOutcome::Matched;
     s.uv_matched = observations[k].z;
     ++features[s.index].successes;
   }
-  batchUpdate(state, observations, so.pixel_sigma);
   out.matched = static_cast<int>(observations.size());
   return out;
 }

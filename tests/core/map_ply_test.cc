@@ -216,6 +216,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadPly{"UnknownType", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n", ":4: ",
                "unknown type 'real'"},
         BadPly{"UnknownKeyword", "ply\nformat ascii 1.0\nvertices 3\nend_header\n", ":3: ", "unknown header"},
+        BadPly{"ElementWithoutProperties",  // used to spin over 2^64 empty instances
+               "ply\nformat binary_little_endian 1.0\nelement face 18446744073709551615\nelement vertex 1\n"
+               "property float x\nproperty float y\nproperty float z\nend_header\n",
+               ": ", "no properties"},
         BadPly{"NoVertex", "ply\nformat ascii 1.0\nelement face 0\nend_header\n", ": ", "no 'element vertex'"},
         BadPly{"NoZ",
                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n1 2\n",

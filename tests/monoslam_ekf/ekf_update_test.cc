@@ -94,5 +94,18 @@ TEST(EkfUpdate, UpdateShrinksUncertaintyAndKeepsSymmetry) {
   EXPECT_GT(S(0, 0), 1.0);  // pixel noise plus the state's share
 }
 
+// A covariance broken by round-off (negative variance of a point) gives an S that is not positive
+// definite: the update refuses rather than writing NaNs into the state.
+TEST(EkfUpdate, RefusesAnInnovationCovarianceThatIsNotPositiveDefinite) {
+  const CameraModel camera = test::testCamera();
+  EkfState s = uncertainState();
+  s.P().block<3, 3>(13, 13) = -Mat3::Identity();
+  const EkfState before = s;
+  EXPECT_FALSE(batchUpdate(s, {observe(s, camera, 13, Vec2(1, 1))}, 1e-3));
+  EXPECT_EQ(s.x(), before.x());
+  EXPECT_EQ(s.P(), before.P());
+  EXPECT_TRUE(batchUpdate(s, {observe(s, camera, 16, Vec2(1, 1))}, 1.0));  // the other point is fine
+}
+
 }  // namespace
 }  // namespace slamcmp

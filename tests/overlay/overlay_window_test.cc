@@ -29,6 +29,17 @@ TEST(OverlayWindow, StaleLocalXDisplayIsRefused) {
   EXPECT_THROW(requireDisplay(), InputError);
 }
 
+TEST(OverlayWindow, QtWithOnlyAWaylandDisplayIsRefusedUnlessToldToUseIt) {
+  if (cv::getBuildInformation().find("QT") == std::string::npos)
+    GTEST_SKIP() << "OpenCV's GUI back-end is not Qt";
+  unsetenv("DISPLAY");
+  unsetenv("QT_QPA_PLATFORM");
+  setenv("WAYLAND_DISPLAY", "wayland-0", 1);
+  EXPECT_THROW(requireDisplay(), InputError);  // Qt would pick X11 and abort
+  setenv("QT_QPA_PLATFORM", "wayland", 1);
+  EXPECT_NO_THROW(requireDisplay());
+}
+
 TEST(OverlayWindow, KeepsShowingFramesWhileTheWindowIsOpen) {
   if (cv::getBuildInformation().find("QT") == std::string::npos)
     GTEST_SKIP() << "OpenCV's GUI back-end is not Qt: no offscreen display to test with";
