@@ -74,4 +74,11 @@ void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eige
   }
 }
 
+std::vector<std::string> readLines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
 }  // namespace slamcmp::test

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -43,6 +44,8 @@ CommandResult runSlamcmp(const std::string& args);
 
 // Writes `text` to `path`.
 void writeText(const std::string& path, const std::string& text);
+// The lines of a text file (none if it cannot be read).
+std::vector<std::string> readLines(const std::string& path);
 
 // Central differences of f: R^n -> R^m at x, compared with the analytic J entry by entry:
 // |J - J_numeric| <= tol * max(1, |J_numeric|).

@@ -18,12 +18,7 @@
 namespace slamcmp {
 namespace {
 
-std::vector<std::string> readLines(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
+using test::readLines;
 
 std::vector<MapPoint> threePoints() {
   std::vector<MapPoint> points(3);
