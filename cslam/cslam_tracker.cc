@@ -148,11 +148,9 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), corners_world_, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
   // The features' pose against the map (its error cancels in the frame-to-frame motion).
-  std::vector<Vec3> p_world;
-  std::vector<Vec2> xy_map;
-  const auto& features = features_.features();
-  for (size_t i = 0; i < features.size(); ++i)
-    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
+  const MapCorrespondences seen = mapPointsSeen(xy);
+  const std::vector<Vec3>& p_world = seen.p_world;
+  const std::vector<Vec2>& xy_map = seen.xy_normalised;
   std::optional<PoseWithCovariance> map_pose;
   if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
     const auto refined =
@@ -185,12 +183,10 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<V
 }
 
 std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
-  const auto& features = features_.features();
   // Map points seen now: their positions fix the scale and refine the pose.
-  std::vector<Vec3> p_world;
-  std::vector<Vec2> xy_map;
-  for (size_t i = 0; i < features.size(); ++i)
-    if (const auto p = map_->position(features[i].id)) p_world.push_back(*p), xy_map.push_back(xy[i]);
+  const MapCorrespondences seen = mapPointsSeen(xy);
+  const std::vector<Vec3>& p_world = seen.p_world;
+  const std::vector<Vec2>& xy_map = seen.xy_normalised;
   const bool map_usable = static_cast<int>(p_world.size()) >= options_.min_scale_points;
 
   std::string essential_failure;
@@ -362,7 +358,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
     if (mode_ == Mode::TwoView && two_view_board_phase_ &&
-        trackedMapPoints() >= options_.two_view_init_map_points)
+        static_cast<int>(mapPointsSeen(xy).p_world.size()) >= options_.two_view_init_map_points)
       two_view_board_phase_ = false;
     result.T_world_camera = T_world_camera;
     ++posed_frames_;
@@ -379,10 +375,16 @@ FrameResult CslamTracker::track(const Frame& frame) {
   return result;
 }
 
-int CslamTracker::trackedMapPoints() const {
-  int n = 0;
-  for (const Feature& f : features_.features()) n += map_->position(f.id).has_value();
-  return n;
+CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy) const {
+  MapCorrespondences m;
+  const auto& features = features_.features();
+  for (size_t i = 0; i < features.size(); ++i) {
+    if (const auto p = map_->position(features[i].id)) {
+      m.p_world.push_back(*p);
+      m.xy_normalised.push_back(xy[i]);
+    }
+  }
+  return m;
 }
 
 std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context) {

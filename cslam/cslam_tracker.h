@@ -114,7 +114,13 @@ class CslamTracker : public Tracker {
   // Drops the features (and their entries of *xy) off their epipolar line from the last posed frame.
   void dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy);
   std::vector<Vec2> featuresNormalised() const;
-  int trackedMapPoints() const;  // tracked features whose map position is usable
+  // The tracked features with a usable map position: their points and (xy[i] for features()[i])
+  // observations.
+  struct MapCorrespondences {
+    std::vector<Vec3> p_world;
+    std::vector<Vec2> xy_normalised;
+  };
+  MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy) const;
   FrameOverlay overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const;
 
   std::optional<CameraModel> camera_;
