@@ -8,10 +8,10 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "core/error.h"
 #include "core/image.h"
+#include "core/media_plugin.h"
 #include "core/yaml.h"
 
 namespace fs = std::filesystem;
@@ -89,12 +89,12 @@ class ImageListSource : public FrameSource {
 
 class VideoSource : public FrameSource {
  public:
-  VideoSource(const std::string& path, cv::VideoCapture cap, int count, double fps)
-      : path_(path), cap_(std::move(cap)), count_(count), fps_(fps) {}
+  VideoSource(const std::string& path, std::unique_ptr<VideoReader> video, int count, double fps)
+      : path_(path), video_(std::move(video)), count_(count), fps_(fps) {}
   int size() const override { return count_; }
   bool next(Frame* frame) override {
     cv::Mat img;
-    if (!cap_.read(img) || img.empty()) return false;
+    if (!video_->read(img)) return false;
     frame->index = index_;
     frame->timestamp = index_ / fps_;
     frame->source = path_ + " frame " + std::to_string(index_);
@@ -107,7 +107,7 @@ class VideoSource : public FrameSource {
 
  private:
   std::string path_;
-  cv::VideoCapture cap_;
+  std::unique_ptr<VideoReader> video_;
   int count_;
   double fps_;
   int index_ = 0;
@@ -306,19 +306,14 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   } else {
     companion_dir = p.parent_path();
     seq.name = p.stem().string();
-    cv::VideoCapture cap;
-    try {
-      cap.open(path);
-    } catch (const cv::Exception&) {
-    }
-    if (!cap.isOpened()) throw InputError(path, "is neither a sequence folder nor a video OpenCV can open");
-    const double fps = cap.get(cv::CAP_PROP_FPS);
-    const int count = static_cast<int>(cap.get(cv::CAP_PROP_FRAME_COUNT));
-    seq.image_size = cv::Size(static_cast<int>(cap.get(cv::CAP_PROP_FRAME_WIDTH)),
-                              static_cast<int>(cap.get(cv::CAP_PROP_FRAME_HEIGHT)));
+    auto video = mediaPlugin(path).openVideo(path);
+    if (!video) throw InputError(path, "is neither a sequence folder nor a video OpenCV can open");
+    const double fps = video->fps();
+    const int count = video->frameCount();
+    seq.image_size = video->frameSize();
     if (seq.image_size.area() <= 0) throw InputError(path, "video has no frames");
     seq.kind = "video";
-    seq.frames = std::make_unique<VideoSource>(path, std::move(cap), count > 0 ? count : -1,
+    seq.frames = std::make_unique<VideoSource>(path, std::move(video), count > 0 ? count : -1,
                                                fps > 0 && std::isfinite(fps) ? fps : 30.0);
   }
 

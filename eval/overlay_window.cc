@@ -4,8 +4,6 @@
 #include <filesystem>
 #include <sstream>
 
-#include <opencv2/highgui.hpp>
-
 #include "core/error.h"
 
 namespace slamcmp {
@@ -53,21 +51,14 @@ void requireDisplay() {
       throw InputError("--show", "needs a display (DISPLAY=" + x11 + " but " + socket + " does not exist)" + kHint);
   }
 #endif
-}
-
-OverlayWindow::~OverlayWindow() {
-  if (open_) cv::destroyWindow(kWindow);
+  mediaPlugin("--show");  // the window's library, loaded now rather than after the first frame's work
 }
 
 bool OverlayWindow::show(const cv::Mat& image) {
-  if (!open_) {
-    cv::namedWindow(kWindow, cv::WINDOW_AUTOSIZE);
-    open_ = true;
-  }
-  cv::imshow(kWindow, image);
-  const int key = cv::waitKey(1);
+  if (!window_) window_ = mediaPlugin("--show").openWindow(kWindow);
+  const int key = window_->show(image);
   if (key == 'q' || key == 'Q' || key == 27) return false;
-  return cv::getWindowProperty(kWindow, cv::WND_PROP_VISIBLE) >= 1;
+  return window_->visible();
 }
 
 }  // namespace slamcmp

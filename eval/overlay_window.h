@@ -1,8 +1,11 @@
 #pragma once
 // `run --show`: the drawn frames in a live window, where a display exists.
+#include <memory>
 #include <string>
 
 #include <opencv2/core.hpp>
+
+#include "core/media_plugin.h"
 
 namespace slamcmp {
 
@@ -14,7 +17,6 @@ void requireDisplay();
 class OverlayWindow {
  public:
   OverlayWindow() = default;
-  ~OverlayWindow();
   OverlayWindow(const OverlayWindow&) = delete;
   OverlayWindow& operator=(const OverlayWindow&) = delete;
 
@@ -23,7 +25,7 @@ class OverlayWindow {
   bool show(const cv::Mat& image);
 
  private:
-  bool open_ = false;
+  std::unique_ptr<ImageWindow> window_;  // opened by the first show()
 };
 
 }  // namespace slamcmp

@@ -17,11 +17,11 @@ namespace fs = std::filesystem;
 
 constexpr double kVideoFps = 30;  // playback rate of the video; every frame is written
 
-// FourCC for a video container, or 0 when `extension` (lower case, with the dot) is none.
-int videoFourcc(const std::string& extension) {
-  if (extension == ".avi") return cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
-  if (extension == ".mp4" || extension == ".mkv") return cv::VideoWriter::fourcc('m', 'p', '4', 'v');
-  return 0;
+// FourCC for a video container, or "" when `extension` (lower case, with the dot) is none.
+std::string videoFourcc(const std::string& extension) {
+  if (extension == ".avi") return "MJPG";
+  if (extension == ".mp4" || extension == ".mkv") return "mp4v";
+  return "";
 }
 
 void createFolder(const fs::path& folder, const std::string& path) {
@@ -43,15 +43,14 @@ OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size) : pat
     createFolder(p, path);
     csv_path_ = (p / "overlay.csv").string();
   } else {
-    const int fourcc = videoFourcc(extension);
-    if (fourcc == 0)
+    const std::string fourcc = videoFourcc(extension);
+    if (fourcc.empty())
       throw InputError(path, "'" + extension +
                                  "' is not a supported video container: use .avi, .mp4, .mkv, or a folder name "
                                  "without an extension for PNG frames");
     if (p.has_parent_path()) createFolder(p.parent_path(), path);
-    // FFmpeg only: the other back-ends print warnings of their own before failing.
-    video_.open(path, cv::CAP_FFMPEG, fourcc, kVideoFps, image_size, true);
-    if (!video_.isOpened()) throw InputError(path, "cannot be written as a video");
+    video_ = mediaPlugin(path).createVideo(path, fourcc, kVideoFps, image_size);
+    if (!video_) throw InputError(path, "cannot be written as a video");
     csv_path_ = path + ".csv";
   }
   csv_.open(csv_path_);
@@ -60,8 +59,8 @@ OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size) : pat
 }
 
 void OverlayWriter::write(int frame_index, const cv::Mat& image, const std::vector<DrawnPrimitive>& drawn) {
-  if (video_.isOpened()) {
-    video_.write(image);
+  if (video_) {
+    video_->write(image);
   } else {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06d.png", frame_index);

@@ -3,12 +3,13 @@
 // a folder of PNGs (frame_000000.png, ... numbered by frame index), and beside them overlay.csv,
 // the drawn primitives' positions (frame,kind,id,u,v,state) for users and tests to check.
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
+#include "core/media_plugin.h"
 #include "eval/overlay_drawing.h"
 
 namespace slamcmp {
@@ -28,7 +29,7 @@ class OverlayWriter {
  private:
   std::string path_;
   std::string csv_path_;
-  cv::VideoWriter video_;  // not opened when writing PNGs
+  std::unique_ptr<VideoWriter> video_;  // null when writing PNGs
   std::ofstream csv_;
 };
 
