@@ -211,7 +211,8 @@ Figure mapFigure(const SequenceInfo& seq, const std::vector<RunResult>& runs) {
     for (int v = 0; v < 2; ++v) {
       const int a = views[v].first, b = views[v].second;
       PlotPanel p;
-      p.title = r.method.label() + ": " + names[v];
+      p.title = r.method.label() + ": " + names[v] + ", " + std::to_string(r.map_errors->stats.points) +
+                " points, median " + fmt(r.map_errors->stats.median * 1e3) + " mm";
       p.xlabel = axis[a];
       p.ylabel = axis[b];
       p.equal_axes = true;
@@ -238,8 +239,7 @@ Figure mapFigure(const SequenceInfo& seq, const std::vector<RunResult>& runs) {
         p.series.push_back(outline);
       }
       PlotSeries points;
-      points.label = std::to_string(r.map_errors->stats.points) + " estimated points, median " +
-                     fmt(r.map_errors->stats.median * 1e3) + " mm";
+      points.label = "map points";
       points.points = true;
       for (size_t i = 0; i < r.map.size(); ++i) {
         points.x.push_back(r.map[i].p_world[a]);

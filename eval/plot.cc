@@ -54,13 +54,16 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
   // viridis: ordered in lightness, readable in grey and by colour-blind readers.
   s << "set palette defined (0 '#440154', 0.25 '#3b528b', 0.5 '#21918c', 0.75 '#5ec962', 1 '#fde725')\n";
   s << "set multiplot layout " << rows << "," << figure.columns;
-  if (!figure.title.empty()) s << " title " << quoted(figure.title) << " font ',13'";
+  // An empty second line keeps the title clear of keys placed above the top row's panels.
+  if (!figure.title.empty()) s << " title " << quoted(figure.title) << ".\"\\n\" font ',13'";
   s << "\n";
   for (size_t p = 0; p < figure.panels.size(); ++p) {
     const PlotPanel& panel = figure.panels[p];
     s << "set title " << quoted(panel.title) << "\n";
     s << "set xlabel " << quoted(panel.xlabel) << "\nset ylabel " << quoted(panel.ylabel) << "\n";
-    if (panel.colour_max > 0) {  // the key goes on top, the colour bar takes the right
+    if (panel.colour_max > 0) {
+      // The colour bar takes the right, the key goes on top in one short row (three rows met the
+      // figure's title).
       s << "set key outside top center horizontal box opaque\nset colorbox\n"
         << "set cbrange [0:" << panel.colour_max << "]\nset cblabel " << quoted(panel.colour_label) << "\n";
     } else {
