@@ -40,6 +40,17 @@ void flipRows(const ChessboardTarget& t, std::vector<cv::Point2f>& uv) {
                      uv.begin() + (t.rows - 1 - j) * t.cols);
 }
 
+// The index in `uv` of the corner that becomes (i, j) when the grid is turned by `quarter_turns`
+// quarter turns (1 and 3 only for a square grid).
+int turnedSource(const ChessboardTarget& t, int quarter_turns, int i, int j) {
+  switch (quarter_turns) {
+    case 1: return (t.cols - 1 - i) * t.cols + j;
+    case 2: return (t.rows - 1 - j) * t.cols + (t.cols - 1 - i);
+    case 3: return i * t.cols + (t.cols - 1 - j);
+    default: return j * t.cols + i;
+  }
+}
+
 }  // namespace
 
 double minCornerSpacing(const ChessboardTarget& t, const std::vector<cv::Point2f>& uv) {
@@ -84,6 +95,47 @@ bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& t,
   return true;
 }
 
+void chooseSymmetricOrder(const ChessboardTarget& t, std::vector<cv::Point2f>& uv,
+                          const std::vector<cv::Point2f>& reference) {
+  CV_Assert(static_cast<int>(uv.size()) == t.numCorners());
+  if (!t.symmetric()) return;
+  const bool use_reference = reference.size() == uv.size();
+  // Quarter turns (they keep the handedness, unlike a mirror): 2 for any symmetric board, 1 and 3
+  // as well for a square one.
+  const std::vector<int> turns = t.cols == t.rows ? std::vector<int>{0, 1, 2, 3} : std::vector<int>{0, 2};
+  std::vector<cv::Point2f> best;
+  double best_cost = 0;
+  for (const int turn : turns) {
+    std::vector<cv::Point2f> turned(uv.size());
+    for (int j = 0; j < t.rows; ++j)
+      for (int i = 0; i < t.cols; ++i) turned[j * t.cols + i] = uv[turnedSource(t, turn, i, j)];
+    double cost = 0;
+    if (use_reference) {
+      for (size_t k = 0; k < turned.size(); ++k) {
+        const cv::Point2f d = turned[k] - reference[k];
+        cost += static_cast<double>(d.x) * d.x + static_cast<double>(d.y) * d.y;
+      }
+    } else {
+      cost = cv::norm(turned.front());
+    }
+    if (best.empty() || cost < best_cost) best = std::move(turned), best_cost = cost;
+  }
+  uv = std::move(best);
+}
+
+std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& t,
+                                             const SE3& T_world_camera) {
+  const SE3 T_camera_world = T_world_camera.inverse();
+  std::vector<cv::Point2f> uv;
+  for (const Vec3& p_world : t.cornersWorld()) {
+    const Vec3 p_camera = T_camera_world * p_world;
+    if (!(p_camera.z() > 0)) return {};
+    const Vec2 p = camera.project(p_camera);
+    uv.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  }
+  return uv;
+}
+
 void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& t,
                              std::vector<cv::Point2f>& uv, const ChessboardDetectorOptions& options) {
   const double spacing = minCornerSpacing(t, uv);
@@ -104,6 +156,7 @@ bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& t, std::vecto
   if (static_cast<int>(corners.size()) != t.numCorners()) return false;
   refineChessboardCorners(grey, t, corners, options);
   if (!orderChessboardCorners(grey, t, corners)) return false;
+  chooseSymmetricOrder(t, corners);
   *uv = std::move(corners);
   return true;
 }

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/camera.h"
 #include "core/target.h"
 
 namespace slamcmp {
@@ -25,7 +26,8 @@ struct ChessboardDetectorOptions {
 };
 
 // Full search: finds, orders and refines the inner corners (distorted pixels, OpenCV row-major
-// order: index j * cols + i). Returns false when the board is not found.
+// order: index j * cols + i). Returns false when the board is not found. A symmetric board's order
+// follows chooseSymmetricOrder's convention (no reference).
 bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& target,
                       std::vector<cv::Point2f>* uv_distorted,
                       const ChessboardDetectorOptions& options = {});
@@ -33,9 +35,24 @@ bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& target,
 // Puts corners (a cols x rows grid in any of the detector's orders) into SPEC section 2's order by
 // the handedness of the grid in the image and the colour of the corner squares. Returns false if the
 // square colours cannot be told apart (the grid is not a chessboard). A symmetric board
-// (ChessboardTarget::symmetric) gets the handedness only: its origin is one of two corners.
+// (ChessboardTarget::symmetric) gets the handedness only: chooseSymmetricOrder picks its origin.
 bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
                             std::vector<cv::Point2f>& uv);
+
+// A symmetric board looks the same after a 180 degree turn (a square one after any quarter turn),
+// so its corners may be numbered from the origin of any of these turns. Renumbers `uv` (a
+// handedness-correct order, as orderChessboardCorners leaves it) by the turn whose corners are
+// nearest `reference` (least sum of squared distances): the same board's corners in the previous
+// frame, or projected from the last pose, so the origin is kept by continuity. With an empty
+// reference, by the convention: the turn whose corner 0 is nearest the image's top-left corner.
+// An asymmetric board is left as it is.
+void chooseSymmetricOrder(const ChessboardTarget& target, std::vector<cv::Point2f>& uv,
+                          const std::vector<cv::Point2f>& reference = {});
+
+// The board's inner corners (distorted pixels, SPEC section 2 order) seen from T_world_camera, e.g.
+// the reference of chooseSymmetricOrder; empty if one is not in front of the camera.
+std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& target,
+                                             const SE3& T_world_camera);
 
 // Sub-pixel refinement with a window under half a square (estimated from the corner spacing).
 void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,

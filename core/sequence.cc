@@ -255,6 +255,15 @@ void checkTargetFitsImages(const ChessboardTarget& target, cv::Size image_size, 
                                 std::to_string(static_cast<int>(kMinSquarePx)) + " pixels");
 }
 
+// Frames per second from the median spacing of the timestamps (30 for a single frame).
+double medianRate(const std::vector<ImageEntry>& entries) {
+  std::vector<double> dt;
+  for (size_t i = 1; i < entries.size(); ++i) dt.push_back(entries[i].timestamp - entries[i - 1].timestamp);
+  if (dt.empty()) return 30.0;
+  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+  return 1.0 / dt[dt.size() / 2];  // timestamps strictly increase: dt > 0
+}
+
 std::string lastComponent(const fs::path& p) {
   fs::path q = p;
   if (q.filename().empty()) q = q.parent_path();
@@ -299,6 +308,7 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
       seq.kind = "images";
       entries = listImageFolder(p, options.images_fps);
     }
+    seq.fps = medianRate(entries);
     const cv::Mat first = readGreyImage(entries.front().path);
     if (first.empty()) throw InputError(entries.front().path, "cannot be decoded as an image");
     seq.image_size = first.size();
@@ -313,8 +323,8 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
     seq.image_size = video->frameSize();
     if (seq.image_size.area() <= 0) throw InputError(path, "video has no frames");
     seq.kind = "video";
-    seq.frames = std::make_unique<VideoSource>(path, std::move(video), count > 0 ? count : -1,
-                                               fps > 0 && std::isfinite(fps) ? fps : 30.0);
+    seq.fps = fps > 0 && std::isfinite(fps) ? fps : 30.0;
+    seq.frames = std::make_unique<VideoSource>(path, std::move(video), count > 0 ? count : -1, seq.fps);
   }
 
   if (!options.camera_path.empty()) {

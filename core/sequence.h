@@ -37,6 +37,7 @@ struct Sequence {
   std::string name;  // short name for output folders
   std::string kind;  // "tum", "images", "video", "euroc"
   cv::Size image_size;
+  double fps = 30;   // the video's rate, or from the median spacing of the frames' timestamps
   std::unique_ptr<FrameSource> frames;
   std::optional<CameraModel> camera;        // camera.yaml, or --camera
   std::optional<ChessboardTarget> target;   // target.yaml, or --target
@@ -48,7 +49,7 @@ struct SequenceOpenOptions {
   std::string camera_path;  // overrides camera.yaml beside the sequence
   std::string target_path;  // overrides target.yaml beside the sequence
   double images_fps = 30.0;  // timestamps for a plain image folder (frame index / fps)
-  bool allow_symmetric_target = false;  // calibration only: see ChessboardTarget::symmetric
+  bool allow_symmetric_target = false;  // calibrate and run: see ChessboardTarget::symmetric
 };
 
 // Throws InputError for anything missing or malformed; reads the first frame to learn (and check)

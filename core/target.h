@@ -19,14 +19,15 @@ struct ChessboardTarget {
   // The four outermost inner corners: (0,0), (cols-1,0), (cols-1,rows-1), (0,rows-1).
   std::vector<Vec3> outerCornersWorld() const;
   // Both counts odd or both even: a 180 degree turn maps the board onto itself, so its frame
-  // (SPEC section 2) is ambiguous. Such a board can calibrate a camera but not define a world.
+  // (SPEC section 2) is ambiguous: `run` picks one origin and keeps it (chooseSymmetricOrder).
   bool symmetric() const { return cols % 2 == rows % 2; }
   // Refuses sizes under 2, non-positive squares, and symmetric boards unless allow_symmetric.
   void check(const std::string& where, bool allow_symmetric = false) const;
 };
 
 // target.yaml: type: chessboard, inner_corners_cols, inner_corners_rows, square_size.
-// allow_symmetric: for calibration only, where the board's orientation does not matter.
+// allow_symmetric: for calibration, where the board's orientation does not matter, and for `run`,
+// which warns and keeps the origin by continuity.
 ChessboardTarget readTargetYaml(const std::string& path, bool allow_symmetric = false);
 void writeTargetYaml(const std::string& path, const ChessboardTarget& target);
 

@@ -44,7 +44,8 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
                                                                  const std::vector<cv::Mat>& pyramid_prev,
                                                                  const std::vector<cv::Mat>& pyramid,
                                                                  cv::Size lk_window, int lk_levels,
-                                                                 const CameraModel* camera, bool allow_search) {
+                                                                 const CameraModel* camera, bool allow_search,
+                                                                 const std::vector<cv::Point2f>& predicted) {
   last_tracked_ = false;
   if (options_.track && camera && !corners_.empty() && !pyramid_prev.empty()) {
     std::vector<cv::Point2f> uv;
@@ -57,7 +58,7 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
     for (size_t i = 0; i < uv.size() && all; ++i)
       all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
     if (all && confirm(grey, uv, *camera)) {
-      corners_ = uv;
+      corners_ = last_seen_ = uv;
       last_tracked_ = true;
       return corners_;
     }
@@ -72,7 +73,8 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
   frames_until_search_ = options_.search_interval_when_lost - 1;
   std::vector<cv::Point2f> uv;
   if (!detectChessboard(grey, target_, &uv, options_.detector)) return std::nullopt;
-  corners_ = uv;
+  chooseSymmetricOrder(target_, uv, predicted.empty() ? last_seen_ : predicted);
+  corners_ = last_seen_ = uv;
   frames_until_search_ = 0;
   return corners_;
 }

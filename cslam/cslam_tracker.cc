@@ -130,8 +130,12 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
                        camera_->inImage(camera_->project(p_camera), options_.board.search_margin_px);
     }
   }
-  auto corners =
-      board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected);
+  // A symmetric board's origin is kept by continuity with the last posed frame.
+  std::vector<cv::Point2f> predicted;
+  if (target_.symmetric() && !history_.empty())
+    predicted = projectBoardCorners(*camera_, target_, history_.back().T_world_camera);
+  auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_,
+                             board_expected, predicted);
   if (!corners) return std::nullopt;
   BoardView view;
   view.uv = std::move(*corners);

@@ -2,8 +2,8 @@
 
 namespace slamcmp {
 
-OverlayOutput::OverlayOutput(const std::string& path, bool show, cv::Size image_size) {
-  if (!path.empty()) writer_.emplace(path, image_size);
+OverlayOutput::OverlayOutput(const std::string& path, bool show, cv::Size image_size, double fps) {
+  if (!path.empty()) writer_.emplace(path, image_size, fps);
   if (show) window_.emplace();
 }
 

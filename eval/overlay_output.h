@@ -14,7 +14,7 @@ class OverlayOutput {
  public:
   // path "": no file; show: a live window (call requireDisplay() first, before any work). Throws
   // InputError as OverlayWriter does.
-  OverlayOutput(const std::string& path, bool show, cv::Size image_size);
+  OverlayOutput(const std::string& path, bool show, cv::Size image_size, double fps);
 
   // False once the user asked the window to stop (q, Esc, or closing it).
   bool add(const Frame& frame, const FrameResult& result);

@@ -15,8 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kVideoFps = 30;  // playback rate of the video; every frame is written
-
 // FourCC for a video container, or "" when `extension` (lower case, with the dot) is none.
 std::string videoFourcc(const std::string& extension) {
   if (extension == ".avi") return "MJPG";
@@ -33,7 +31,7 @@ void createFolder(const fs::path& folder, const std::string& path) {
 
 }  // namespace
 
-OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size) : path_(path) {
+OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size, double fps) : path_(path) {
   const fs::path p(path);
   std::string extension = p.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -49,7 +47,7 @@ OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size) : pat
                                  "' is not a supported video container: use .avi, .mp4, .mkv, or a folder name "
                                  "without an extension for PNG frames");
     if (p.has_parent_path()) createFolder(p.parent_path(), path);
-    video_ = mediaPlugin(path).createVideo(path, fourcc, kVideoFps, image_size);
+    video_ = mediaPlugin(path).createVideo(path, fourcc, fps, image_size);
     if (!video_) throw InputError(path, "cannot be written as a video");
     csv_path_ = path + ".csv";
   }

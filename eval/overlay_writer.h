@@ -16,9 +16,10 @@ namespace slamcmp {
 
 class OverlayWriter {
  public:
-  // Creates the folder (or the video's folder) and opens the outputs. Throws InputError naming
-  // `path` when it cannot be written or has an extension that is not a supported container.
-  OverlayWriter(const std::string& path, cv::Size image_size);
+  // Creates the folder (or the video's folder) and opens the outputs; a video plays at `fps`, the
+  // sequence's rate. Throws InputError naming `path` when it cannot be written or has an extension
+  // that is not a supported container.
+  OverlayWriter(const std::string& path, cv::Size image_size, double fps);
 
   // One drawn frame (BGR, image_size) and what was drawn on it. Throws InputError if writing fails.
   void write(int frame_index, const cv::Mat& image, const std::vector<DrawnPrimitive>& drawn);

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <iostream>
 #include <memory>
 
 #include "core/error.h"
@@ -60,7 +61,14 @@ nlohmann::json runSequence(const RunRequest& request) {
   SequenceOpenOptions open_options;
   open_options.camera_path = request.camera_path;
   open_options.target_path = request.target_path;
+  open_options.allow_symmetric_target = true;  // warned about below; the back-ends keep its origin
   Sequence seq = openSequence(request.sequence_path, open_options);
+  const bool board_symmetric = seq.target && seq.target->symmetric();
+  if (board_symmetric)
+    std::cerr << seq.target_path + ": the " + std::to_string(seq.target->cols) + "x" +
+                     std::to_string(seq.target->rows) +
+                     " board is symmetric (a 180 degree turn looks the same); its origin is chosen in the "
+                     "first frame that shows it and kept by continuity\n";
   // A synthetic sequence's true surfaces, read before tracking so a bad file stops the run early.
   std::optional<SceneGeometry> scene;
   if (const std::string scene_path = sceneFileOf(seq.path); !scene_path.empty()) scene = readSceneYaml(scene_path);
@@ -81,7 +89,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   std::unique_ptr<Tracker> tracker = makeTracker(request.backend, context);
   // Created once the options and the back-end are known good: a bad --config leaves no video behind.
   std::optional<OverlayOutput> overlay;
-  if (context.want_overlay) overlay.emplace(request.overlay_path, request.show, seq.image_size);
+  if (context.want_overlay) overlay.emplace(request.overlay_path, request.show, seq.image_size, seq.fps);
 
   const std::string out_dir =
       request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
@@ -125,6 +133,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["mode"] = request.mode;
   extra["init"] = request.init;
   extra["interrupted"] = interrupted() || quit;
+  if (board_symmetric) extra["board_symmetric"] = true;
   extra["options"] = tracker->options();
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {

@@ -55,12 +55,18 @@ void MonoslamTracker::finish() {
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   std::vector<cv::Point2f> corners;
   const bool board_seen = detectChessboard(frame.grey, target_, &corners, options_.board);
+  // A symmetric board's origin: the one nearest where the given pose, or the last pose before a
+  // loss, puts it (else chooseSymmetricOrder's convention).
+  const bool use_given_pose = init_ != InitSource::Board && !ever_started_;
+  if (board_seen && target_.symmetric() && (use_given_pose || last_pose_))
+    chooseSymmetricOrder(target_, corners,
+                         projectBoardCorners(camera_, target_, use_given_pose ? *T_world_camera_init_ : *last_pose_));
   start_corners_.clear();
   if (board_seen)
     for (const cv::Point2f& c : corners) start_corners_.emplace_back(c.x, c.y);
   SE3 T_world_camera;
   // The given pose starts the run; every restart after a loss needs the board.
-  if (init_ != InitSource::Board && !ever_started_) {
+  if (use_given_pose) {
     T_world_camera = *T_world_camera_init_;
   } else if (board_seen) {
     T_world_camera = boardPose(camera_, target_, corners);
@@ -245,7 +251,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
   }
   result.status = TrackStatus::Ekf;
-  result.T_world_camera = state_.T_world_camera();
+  result.T_world_camera = last_pose_ = state_.T_world_camera();
   result.features = static_cast<int>(features_.size());
   if (result.measured == 0 && frames_unmeasured_ > 0) result.reason = "no feature matched: prediction only";
   return result;

@@ -1,6 +1,7 @@
 #pragma once
 // The MonoSLAM EKF back-end (thesis chapter 2, SPEC section 5) behind the Tracker interface.
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -46,6 +47,7 @@ class MonoslamTracker : public Tracker {
   bool ever_started_ = false;
   std::string lost_reason_;
   std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay
+  std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
   int visible_ = 0;  // map points predicted in the image this frame

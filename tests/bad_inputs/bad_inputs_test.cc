@@ -226,8 +226,6 @@ std::vector<BadCase> cases() {
                            {tmp.file("no.yaml"), "cannot be opened"}};
        }},
       // target.yaml: board sizes and values.
-      yamlCase("BoardEvenEven", "target.yaml", targetYaml("8", "6", "0.04"), "both even"),
-      yamlCase("BoardOddOdd", "target.yaml", targetYaml("9", "7", "0.04"), "both odd"),
       yamlCase("BoardZero", "target.yaml", targetYaml("0", "0", "0.04"), "at least 2x2"),
       yamlCase("BoardLargerThanImages", "target.yaml", targetYaml("61", "40", "0.04"),
                "cannot be seen in 160x120 images"),
@@ -424,6 +422,27 @@ TEST_P(BadInput, ExitsTwoWithOneLineNamingTheProblem) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// A symmetric board (both counts even, or both odd) is not bad input: the run goes on, with one
+// warning line naming target.yaml, and summary.json records it.
+TEST(SymmetricBoard, RunWarnsOnceAndGoesOn) {
+  for (const auto& [cols, rows] : {std::pair<std::string, std::string>{"8", "6"}, {"9", "7"}}) {
+    TempDir tmp;
+    writeSequence(tmp.file("seq"));
+    writeText(tmp.file("seq/target.yaml"), targetYaml(cols, rows, "0.04"));
+    const test::CommandResult r =
+        test::runSlamcmp("run --backend cslam --sequence " + tmp.file("seq") + " --out " + tmp.file("out"));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(tmp.file("seq/target.yaml") + ": the " + cols + "x" + rows + " board is symmetric"),
+              std::string::npos)
+        << r.err;
+    const std::vector<std::string> summary = test::readLines(tmp.file("out/summary.json"));
+    EXPECT_TRUE(std::any_of(summary.begin(), summary.end(), [](const std::string& line) {
+      return line.find("\"board_symmetric\": true") != std::string::npos;
+    }));
+  }
+}
 
 }  // namespace
 }  // namespace slamcmp

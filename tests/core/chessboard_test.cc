@@ -6,6 +6,7 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -186,6 +187,129 @@ TEST(Chessboard, MirroredAndReversedOrdersAreFixed) {
     ASSERT_TRUE(orderChessboardCorners(grey, kBoard9x6, *order));
     for (size_t k = 0; k < uv.size(); ++k) EXPECT_EQ((*order)[k], uv[k]) << "corner " << k;
   }
+}
+
+// A drawn chessboard (40 px squares, the top-left square black, white margin) turned by `degrees`
+// about the centre of a 640x480 image; *uv gets its inner corners row by row from the corner that
+// was top-left before the turn.
+cv::Mat drawnBoard(const ChessboardTarget& t, double degrees, std::vector<cv::Point2f>* uv) {
+  constexpr int kSquare = 40;
+  cv::Mat board(480, 640, CV_8UC1, cv::Scalar(230));
+  const cv::Point origin(320 - (t.cols + 1) * kSquare / 2, 240 - (t.rows + 1) * kSquare / 2);
+  for (int b = 0; b <= t.rows; ++b)
+    for (int a = 0; a <= t.cols; ++a)
+      if ((a + b) % 2 == 0)
+        cv::rectangle(board, cv::Rect(origin.x + a * kSquare, origin.y + b * kSquare, kSquare, kSquare),
+                      cv::Scalar(25), cv::FILLED);
+  const cv::Mat M = cv::getRotationMatrix2D(cv::Point2f(319.5f, 239.5f), degrees, 1.0);
+  cv::Mat turned;
+  cv::warpAffine(board, turned, M, board.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(230));
+  uv->clear();
+  for (int j = 0; j < t.rows; ++j)
+    for (int i = 0; i < t.cols; ++i) {
+      // A corner is the point between pixels: pixel centres are at integer coordinates.
+      const cv::Vec3d p(origin.x + (i + 1) * kSquare - 0.5, origin.y + (j + 1) * kSquare - 0.5, 1.0);
+      const cv::Vec2d q = cv::Matx23d(M) * p;
+      uv->emplace_back(static_cast<float>(q[0]), static_cast<float>(q[1]));
+    }
+  return turned;
+}
+
+std::vector<cv::Point2f> reversedOrder(const std::vector<cv::Point2f>& uv) { return {uv.rbegin(), uv.rend()}; }
+
+const ChessboardTarget kBoard8x6{8, 6, 0.03};  // symmetric: both counts even
+
+// The detector finds the drawn symmetric board; its origin is one of the two 180 degree turns'.
+TEST(SymmetricBoard, DetectedCornersAreTheGridInOneOfItsTurns) {
+  std::vector<cv::Point2f> truth;
+  const cv::Mat grey = drawnBoard(kBoard8x6, 25, &truth);
+  std::vector<cv::Point2f> uv;
+  ASSERT_TRUE(detectChessboard(grey, kBoard8x6, &uv));
+  ASSERT_EQ(uv.size(), 48u);
+  const std::vector<cv::Point2f> truth_turned = reversedOrder(truth);
+  const auto& expected = cv::norm(uv[0] - truth[0]) < cv::norm(uv[0] - truth_turned[0]) ? truth : truth_turned;
+  for (size_t k = 0; k < uv.size(); ++k) EXPECT_LT(cv::norm(uv[k] - expected[k]), 0.3) << "corner " << k;
+}
+
+// With no reference the convention decides: of the two turns, corner 0 nearest the image's
+// top-left corner, whatever order the corners came in.
+TEST(SymmetricBoard, ConventionPutsTheOriginNearestTheTopLeft) {
+  for (const double degrees : {0.0, 25.0, 100.0, 180.0, 250.0}) {
+    std::vector<cv::Point2f> truth;
+    const cv::Mat grey = drawnBoard(kBoard8x6, degrees, &truth);
+    const std::vector<cv::Point2f> truth_turned = reversedOrder(truth);
+    const auto& expected = cv::norm(truth[0]) < cv::norm(truth_turned[0]) ? truth : truth_turned;
+    for (auto order : {truth, truth_turned}) {
+      chooseSymmetricOrder(kBoard8x6, order);
+      EXPECT_EQ(order, expected) << degrees << " degrees";
+    }
+    std::vector<cv::Point2f> uv;
+    ASSERT_TRUE(detectChessboard(grey, kBoard8x6, &uv)) << degrees << " degrees";
+    EXPECT_LT(cv::norm(uv[0] - expected[0]), 0.3) << degrees << " degrees";
+  }
+}
+
+// With a reference (last frame's corners, or projected from the last pose: a few pixels off),
+// the turn nearest it wins, even where the convention would pick the other one.
+TEST(SymmetricBoard, ReferenceKeepsTheOrigin) {
+  std::vector<cv::Point2f> truth;
+  drawnBoard(kBoard8x6, 170, &truth);  // the convention picks the turned order here
+  std::vector<cv::Point2f> reference = truth;
+  cv::RNG rng(3);
+  for (auto& p : reference) p += cv::Point2f(12.0f + rng.uniform(-5.f, 5.f), -8.0f + rng.uniform(-5.f, 5.f));
+  for (auto order : {truth, reversedOrder(truth)}) {
+    chooseSymmetricOrder(kBoard8x6, order, reference);
+    EXPECT_EQ(order, truth);
+    chooseSymmetricOrder(kBoard8x6, order, reversedOrder(reference));
+    EXPECT_EQ(order, reversedOrder(truth));
+  }
+  std::vector<cv::Point2f> convention = truth;
+  chooseSymmetricOrder(kBoard8x6, convention);
+  EXPECT_EQ(convention, reversedOrder(truth));
+}
+
+// A square board (6x6) also looks the same after a quarter turn: the reference picks among four.
+TEST(SymmetricBoard, SquareBoardHasFourTurns) {
+  const ChessboardTarget square{6, 6, 0.03};
+  std::vector<cv::Point2f> truth;
+  drawnBoard(square, 30, &truth);
+  std::vector<cv::Point2f> quarter(truth.size());
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) quarter[j * 6 + i] = truth[i * 6 + (5 - j)];
+  std::vector<cv::Point2f> order = quarter;
+  chooseSymmetricOrder(square, order, truth);
+  EXPECT_EQ(order, truth);
+  order = truth;
+  chooseSymmetricOrder(square, order, quarter);
+  EXPECT_EQ(order, quarter);
+}
+
+// An asymmetric board's order is fixed by the square colours: never renumbered.
+TEST(SymmetricBoard, AsymmetricBoardIsLeftAlone) {
+  std::vector<cv::Point2f> truth;
+  drawnBoard(kBoard9x6, 0, &truth);
+  std::vector<cv::Point2f> order = reversedOrder(truth);
+  chooseSymmetricOrder(kBoard9x6, order, truth);
+  EXPECT_EQ(order, reversedOrder(truth));
+}
+
+TEST(SymmetricBoard, ProjectedCornersForTheReference) {
+  CameraModel camera;
+  camera.width = 640;
+  camera.height = 480;
+  camera.fx = camera.fy = 500;
+  camera.cx = 319.5;
+  camera.cy = 239.5;
+  const SE3 T_world_camera(Mat3::Identity(), Vec3(0.1, 0.07, -0.5));  // 0.5 m in front of the board
+  const std::vector<cv::Point2f> uv = projectBoardCorners(camera, kBoard8x6, T_world_camera);
+  ASSERT_EQ(uv.size(), 48u);
+  const Vec2 last = camera.project(T_world_camera.inverse() * kBoard8x6.cornerWorld(7, 5));
+  EXPECT_NEAR(uv[47].x, last.x(), 1e-3);
+  EXPECT_NEAR(uv[47].y, last.y(), 1e-3);
+  EXPECT_NEAR(uv[0].x, 319.5 - 0.1 * 1000, 1e-3);  // (0, 0, 0) seen 0.1 m left, 0.07 m up, 0.5 m away
+  EXPECT_NEAR(uv[0].y, 239.5 - 0.07 * 1000, 1e-3);
+  // Behind the camera: no reference.
+  EXPECT_TRUE(projectBoardCorners(camera, kBoard8x6, SE3(Mat3::Identity(), Vec3(0, 0, 0.5))).empty());
 }
 
 TEST(Chessboard, NoBoardInAFlatOrNoisyImage) {

@@ -156,6 +156,7 @@ TEST(Sequence, OpensPlainImageFolderInNameOrder) {
   options.images_fps = 10.0;
   Sequence seq = openSequence(dir.path(), options);
   EXPECT_EQ(seq.kind, "images");
+  EXPECT_EQ(seq.fps, 10.0);
   EXPECT_EQ(seq.frames->size(), 3);
   EXPECT_EQ(seq.image_size, cv::Size(32, 24));
   EXPECT_FALSE(seq.camera.has_value());
@@ -265,6 +266,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadRgbList{"missing_path", "1.0 a.png\n2.0\n", "rgb.txt:2"},
         BadRgbList{"empty_list", "# timestamp filename\n\n", "rgb.txt"}),
     [](const auto& info) { return info.param.name; });
+
+TEST(Sequence, RateIsTheMedianSpacingOfTheTimestamps) {
+  TumFolder folder("1.00 a.png\n1.05 b.png\n1.10 c.png\n1.30 a.png\n");  // one frame dropped
+  EXPECT_NEAR(openSequence(folder.dir().path()).fps, 20.0, 1e-9);
+  TumFolder single("5.0 a.png\n");
+  EXPECT_EQ(openSequence(single.dir().path()).fps, 30.0);
+}
 
 TEST(Sequence, CameraOfAnotherSizeIsRefused) {
   TumFolder folder("1.0 a.png\n2.0 b.png\n");

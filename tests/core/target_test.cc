@@ -98,8 +98,8 @@ INSTANTIATE_TEST_SUITE_P(
 namespace slamcmp {
 namespace {
 
-// A symmetric board is refused for tracking but accepted for calibration, where its corner order
-// only needs the right handedness.
+// A symmetric board is refused unless the caller allows it: calibration (its corner order only needs
+// the right handedness) and `run` (which warns and keeps the origin by continuity).
 TEST(Target, SymmetricBoardOnlyForCalibration) {
   test::TempDir tmp;
   test::writeText(tmp.file("t.yaml"), "%YAML:1.0\n---\ntype: chessboard\ninner_corners_cols: 8\n"

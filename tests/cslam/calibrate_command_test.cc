@@ -34,6 +34,11 @@ TEST(CalibrateCommand, BouguetMatchesThePublishedResult) {
 // OpenCV's left camera sample (9x6, 25 mm). The published calibration (fx = fy = 535.9, fixed
 // aspect ratio, 11x11 sub-pixel windows, rms 0.39 px) and ours (windows under half a square, rms
 // 0.20 px) differ by 0.6 % in focal length: the tolerance is 1 %, and 2 px for the principal point.
+// The published value is the biased one: this board's bottom row of squares is cut short, and the
+// 23x23-pixel windows reach the cut and pull the corners next to it by up to 6 px (left02: view
+// error 1.18 px). OpenCV's sample re-run here gives the published figures to 0.01 px; with half-
+// windows of 3 to 9 px instead of 11 it gives fx 532.2 to 533.1, as ours. On rendered views of such
+// a board (self_calibration_test.cc) ours recovers fx to 0.01 %; 11x11 windows miss it by 2.4 %.
 TEST(CalibrateCommand, OpencvLeftMatchesThePublishedResult) {
   SLAMCMP_REQUIRE_SHARED(shared);
   test::TempDir dir;
@@ -54,9 +59,10 @@ TEST(CalibrateCommand, NoBoardIsBadInput) {
   EXPECT_FALSE(std::ifstream(dir.file("camera.yaml")).good());
 }
 
-// The phone video's board has 8x6 inner corners: symmetric, so it cannot define a world frame
-// (`run` refuses it) but calibrates a camera. No published result: the principal point must be near
-// the centre of the 1280x720 image and both focal lengths agree within 2 %.
+// The phone video's board has 8x6 inner corners: symmetric (its origin is ambiguous), which does
+// not matter to calibration. No published result: the principal point must be near the centre of
+// the 1280x720 image and both focal lengths agree within 2 %. `run` with that camera keeps one origin
+// (symmetric_board_test) and poses most frames (measured: all 241).
 TEST(CalibrateCommand, PhoneVideoWithASymmetricBoard) {
   SLAMCMP_REQUIRE_SHARED(shared);
   test::TempDir dir;
@@ -69,8 +75,10 @@ TEST(CalibrateCommand, PhoneVideoWithASymmetricBoard) {
   const auto run = test::runSlamcmp("run --backend cslam --sequence " + shared +
                                     "/video_chessboard/chessboard.avi --camera " + dir.file("camera.yaml") +
                                     " --out " + dir.file("run"));
-  EXPECT_EQ(run.exit_code, 2);
-  EXPECT_NE(run.err.find("both even"), std::string::npos) << run.err;
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const size_t at = run.out.find("cslam: ");  // "cslam: 241/241 frames tracked, ..."
+  ASSERT_NE(at, std::string::npos) << run.out;
+  EXPECT_GE(std::stoi(run.out.substr(at + 7)), 229) << run.out;  // 95 % of 241
 }
 
 }  // namespace

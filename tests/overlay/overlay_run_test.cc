@@ -167,6 +167,7 @@ TEST_F(OverlayRun, VideoHoldsEveryFrameAndItsCsvSitsBeside) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   cv::VideoCapture capture(video, cv::CAP_FFMPEG);
   ASSERT_TRUE(capture.isOpened()) << video;
+  EXPECT_NEAR(capture.get(cv::CAP_PROP_FPS), 10.0, 1e-3);  // tv1's rate, from its timestamps
   int frames = 0;
   for (cv::Mat image; capture.read(image); ++frames) EXPECT_EQ(image.size(), cv::Size(640, 480));
   EXPECT_EQ(frames, kFrames);
