@@ -41,38 +41,60 @@ RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
   frames_file_.open(frames);
   if (!frames_file_) throw InputError(frames, "cannot be written");
   frames_file_ << framesCsvHeader() << '\n';
+  trajectory_file_.flush();  // valid (empty) files even while the first rows wait
+  frames_file_.flush();
 }
 
-void RunRecorder::writeRow(const Frame& frame, TrackStatus status, double ms, double decode_ms,
-                           int features, int measured) {
-  frames_file_ << formatFrameRow({frame.index, frame.timestamp, status, ms, decode_ms, features, measured});
+void RunRecorder::write(const Row& row) {
+  if (row.T_world_camera) {
+    ++tracked_;
+    trajectory_file_ << formatTumLine({row.timestamp, *row.T_world_camera}) << '\n';
+    trajectory_file_.flush();
+  } else {
+    ++lost_;
+    if (!first_lost_frame_) first_lost_frame_ = row.index;
+    ++lost_reasons_[row.reason.empty() ? std::string(toString(row.status)) : reasonCategory(row.reason)];
+  }
+  const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
+                                                                                          : TrackStatus::Lost;
+  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.ms, row.decode_ms, row.features,
+                                  row.measured});
   frames_file_.flush();
 }
 
 void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, double decode_ms) {
   ++frames_;
   ms_.push_back(ms);
-  if (r.T_world_camera) {
-    ++tracked_;
-    trajectory_file_ << formatTumLine({frame.timestamp, *r.T_world_camera}) << '\n';
-    trajectory_file_.flush();
-  } else {
-    ++lost_;
-    if (!first_lost_frame_) first_lost_frame_ = frame.index;
-    ++lost_reasons_[r.reason.empty() ? std::string(toString(r.status)) : reasonCategory(r.reason)];
+  const Row row{frame.index, frame.timestamp, r.status, r.T_world_camera, r.features, r.measured, r.reason,
+                ms, decode_ms};
+  if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
+    waiting_.push_back(row);
+    return;
   }
-  writeRow(frame, r.T_world_camera ? r.status : (r.status == TrackStatus::Initialising
-                                                     ? TrackStatus::Initialising
-                                                     : TrackStatus::Lost),
-           ms, decode_ms, r.features, r.measured);
+  for (const LatePose& late : r.late_poses) {
+    const auto at = std::find_if(waiting_.begin(), waiting_.end(),
+                                 [&](const Row& w) { return w.index == late.frame_index; });
+    if (at == waiting_.end()) continue;  // not an Initialising frame: its row stands
+    at->status = late.status;
+    at->T_world_camera = late.T_world_camera;
+    at->measured = late.measured;
+    at->reason.clear();
+  }
+  flush();
+  write(row);
 }
 
 void RunRecorder::recordUndecodable(const Frame& frame, double decode_ms) {
   ++frames_;
-  ++lost_;
-  if (!first_lost_frame_) first_lost_frame_ = frame.index;
-  ++lost_reasons_["image could not be decoded"];
-  writeRow(frame, TrackStatus::Lost, 0.0, decode_ms, 0, 0);
+  const Row row{frame.index, frame.timestamp, TrackStatus::Lost, std::nullopt, 0, 0, "image could not be decoded",
+                0.0, decode_ms};
+  if (waiting_.empty()) write(row);
+  else waiting_.push_back(row);  // keeps the files in frame order
+}
+
+void RunRecorder::flush() {
+  for (const Row& row : waiting_) write(row);
+  waiting_.clear();
 }
 
 nlohmann::json RunRecorder::summary() const {
@@ -88,7 +110,8 @@ nlohmann::json RunRecorder::summary() const {
   return j;
 }
 
-nlohmann::json RunRecorder::writeSummary(const nlohmann::json& extra) const {
+nlohmann::json RunRecorder::writeSummary(const nlohmann::json& extra) {
+  flush();
   nlohmann::json j = summary();
   j.update(extra);
   const std::string path = out_dir_ + "/summary.json";

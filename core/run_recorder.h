@@ -1,7 +1,8 @@
 #pragma once
 // Writes a run's outputs (SPEC section 4): trajectory.txt and frames.csv line by line as frames
 // are tracked (an interrupted run leaves valid files for the frames done), summary.json at the
-// end (map.ply: core/map_ply.h).
+// end (map.ply: core/map_ply.h). Rows of Initialising frames wait until a frame that is not, whose
+// FrameResult::late_poses may pose them, so both files stay in frame order.
 #include <fstream>
 #include <map>
 #include <optional>
@@ -32,23 +33,34 @@ class RunRecorder {
   void record(const Frame& frame, const FrameResult& result, double ms, double decode_ms);
   // A frame whose image could not be decoded: recorded lost, not fatal.
   void recordUndecodable(const Frame& frame, double decode_ms);
+  // Writes the rows still waiting (the run ended, or stopped, while initialising).
+  void flush();
 
-  // summary.json: the SPEC fields, plus `extra` merged in (options, metrics, ...).
+  // summary.json: the SPEC fields over the rows written, plus `extra` merged in (options, metrics, ...).
   nlohmann::json summary() const;
-  // Writes summary() with `extra` merged in to summary.json and returns what it wrote.
-  nlohmann::json writeSummary(const nlohmann::json& extra) const;
+  // flush(), then writes summary() with `extra` merged in to summary.json and returns what it wrote.
+  nlohmann::json writeSummary(const nlohmann::json& extra);
 
   const std::string& outDir() const { return out_dir_; }
   // trajectory.txt, complete up to the last recorded frame (the poses are not kept in memory, so
   // a long run's memory stays flat).
   std::string trajectoryPath() const { return out_dir_ + "/trajectory.txt"; }
-  int frames() const { return frames_; }
-  int tracked() const { return tracked_; }
+  int frames() const { return frames_; }  // recorded, written or waiting
+  int tracked() const { return tracked_; }  // posed among the rows written
 
  private:
-  void writeRow(const Frame& frame, TrackStatus status, double ms, double decode_ms, int features,
-                int measured);
+  struct Row {
+    int index = 0;
+    double timestamp = 0;
+    TrackStatus status = TrackStatus::Lost;
+    std::optional<SE3> T_world_camera;
+    int features = 0, measured = 0;
+    std::string reason;
+    double ms = 0, decode_ms = 0;
+  };
+  void write(const Row& row);
 
+  std::vector<Row> waiting_;  // Initialising rows (and undecodable ones among them), in order
   std::string out_dir_;
   std::string backend_;
   std::ofstream trajectory_file_;

@@ -19,6 +19,15 @@ namespace slamcmp {
 enum class TrackStatus { Board, TwoView, Ekf, Initialising, Lost };
 const char* toString(TrackStatus status);  // "board", "two_view", "ekf", "initialising", "lost"
 
+// A pose found later for an earlier frame the tracker returned as Initialising (cslam: frames that
+// showed the board while it gathered self-calibration views, posed once the camera is known).
+struct LatePose {
+  int frame_index = 0;
+  TrackStatus status = TrackStatus::Board;
+  SE3 T_world_camera;
+  int measured = 0;
+};
+
 struct FrameResult {
   TrackStatus status = TrackStatus::Lost;
   std::optional<SE3> T_world_camera;  // empty when lost or initialising: never a made-up pose
@@ -26,6 +35,7 @@ struct FrameResult {
   int measured = 0;                   // features measured in this frame
   std::string reason;                 // why the frame is lost or degraded; "" when all is well
   std::optional<FrameOverlay> overlay;  // what was seen, when TrackerContext::want_overlay
+  std::vector<LatePose> late_poses;     // earlier Initialising frames posed now (see RunRecorder)
 };
 
 struct MapPoint {

@@ -28,6 +28,7 @@ void CslamOptions::check() const {
   fusion.check();
   if (two_view_init_map_points < 1) throw InputError("cslam.two_view_init_map_points", "must be >= 1");
   calibration.check();
+  if (max_late_poses < 0) throw InputError("cslam.max_late_poses", "must be >= 0");
 }
 
 namespace {
@@ -99,7 +100,11 @@ std::vector<Vec2> CslamTracker::featuresNormalised() const {
 bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* result) {
   ++calibration_frames_;
   const auto corners = board_.find(frame.grey, {}, {}, cv::Size(), 0, nullptr);
-  if (corners) calibrator_->addView(*corners);
+  if (corners) {
+    calibrator_->addView(*corners);
+    gathered_.push_back({frame.index, *corners});
+    if (static_cast<int>(gathered_.size()) > options_.max_late_poses) gathered_.pop_front();
+  }
   const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
   if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
     if (const auto calibrated = calibrator_->calibrate()) {
@@ -108,6 +113,8 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
       focal_px_ = 0.5 * (camera_->fx + camera_->fy);
       map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
       calibrator_.reset();
+      if (!gathered_.empty() && gathered_.back().frame_index == frame.index) gathered_.pop_back();  // posed below
+      result->late_poses = posesOfGatheringFrames();
       return true;
     }
   }
@@ -137,15 +144,34 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
   auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_,
                              board_expected, predicted);
   if (!corners) return std::nullopt;
+  result->measured = static_cast<int>(corners->size());
+  return boardView(std::move(*corners));
+}
+
+CslamTracker::BoardView CslamTracker::boardView(std::vector<cv::Point2f> uv) const {
   BoardView view;
-  view.uv = std::move(*corners);
+  view.uv = std::move(uv);
   view.xy.reserve(view.uv.size());
   for (const auto& c : view.uv) view.xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
   const BoardPose pose = boardPose(corners_world_, view.xy, focal_px_, options_.board_pose);
   view.T_world_camera = pose.T_camera_board.inverse();
   view.rms_px = pose.rms_px;
-  result->measured = static_cast<int>(view.uv.size());
   return view;
+}
+
+std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
+  std::vector<LatePose> late(gathered_.size());
+  // Newest first: the board tracker goes on from the newest corners, so a symmetric board's
+  // origin chained back from them is the one of the frames to come.
+  const std::vector<cv::Point2f>* newer = nullptr;
+  for (size_t k = gathered_.size(); k-- > 0;) {
+    GatheredCorners& g = gathered_[k];
+    if (newer) chooseSymmetricOrder(target_, g.uv, *newer);
+    newer = &g.uv;
+    late[k] = {g.frame_index, TrackStatus::Board, boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())};
+  }
+  gathered_.clear();
+  return late;
 }
 
 SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result) {

@@ -46,6 +46,7 @@ struct CslamOptions {
   BoardOdometryFusionOptions fusion;
   int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
   SelfCalibrationOptions calibration;
+  int max_late_poses = 1000;  // frames gathering calibration views whose board corners wait to be posed
   template <class V>
   void visit(V& v) {
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels (board corners and features)");
@@ -66,6 +67,8 @@ struct CslamOptions {
     v("two_view_init_map_points", two_view_init_map_points,
       "two_view mode: the board sets the world frame and scale until the map holds this many points");
     v("calibration", calibration, "self-calibration when no camera file is given");
+    v("max_late_poses", max_late_poses,
+      "frames that showed the board before self-calibration, posed from their corners once it is done (the last this many)");
   }
   void check() const;
 };
@@ -104,6 +107,9 @@ class CslamTracker : public Tracker {
     double rms_px = 0;             // reprojection error of the board pose
   };
   std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, FrameResult* result);
+  BoardView boardView(std::vector<cv::Point2f> uv) const;  // the pose from the corners
+  // The frames that gathered calibration views, posed now that the camera is known.
+  std::vector<LatePose> posesOfGatheringFrames();
   // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
   SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result);
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
@@ -139,6 +145,11 @@ class CslamTracker : public Tracker {
   std::unique_ptr<FeatureMap> map_;
   std::unique_ptr<SelfCalibrator> calibrator_;
   int calibration_frames_ = 0;
+  struct GatheredCorners {
+    int frame_index;
+    std::vector<cv::Point2f> uv;
+  };
+  std::deque<GatheredCorners> gathered_;  // while self-calibrating: the frames that showed the board
   std::optional<double> calibration_rms_px_;
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;

@@ -118,6 +118,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     if (request.on_frame) request.on_frame();
   }
   progress.finish();
+  recorder.flush();  // before finish() may throw: the files hold every frame recorded
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
   if (!interrupted() && !quit) {

@@ -114,6 +114,74 @@ TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
   EXPECT_DOUBLE_EQ(ms["p99"].get<double>(), 5.0);
 }
 
+// Initialising rows wait for the next frame that is not; its late poses fill them in, in order.
+TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
+  test::TempDir dir;
+  const SE3 T1 = SE3::fromRotvec(Vec3(0.1, 0.0, 0.0), Vec3(0.1, 0.0, -1.0));
+  const SE3 T3 = SE3::fromRotvec(Vec3(0.2, 0.0, 0.0), Vec3(0.3, 0.0, -1.0));
+  const SE3 T5 = SE3::fromRotvec(Vec3(0.3, 0.0, 0.0), Vec3(0.5, 0.0, -1.0));
+  FrameResult initialising;
+  initialising.status = TrackStatus::Initialising;
+  initialising.reason = "gathering board views for self-calibration (1 of 8)";
+  {
+    RunRecorder recorder(dir.path(), "cslam");
+    recorder.record(frameAt(0), initialising, 1.0, 0.0);  // no board: stays initialising
+    recorder.record(frameAt(1), initialising, 1.0, 0.0);
+    recorder.recordUndecodable(frameAt(2), 0.0);
+    recorder.record(frameAt(3), initialising, 1.0, 0.0);
+    EXPECT_EQ(recorder.frames(), 4);
+    EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 1u);  // the header: the rows wait
+    FrameResult calibrated = tracked(TrackStatus::Board, T5, 54, 54);
+    calibrated.late_poses = {{1, TrackStatus::Board, T1, 54}, {3, TrackStatus::Board, T3, 54},
+                             {4, TrackStatus::Board, T3, 54}};  // 4 was not initialising: ignored
+    recorder.record(frameAt(4), lost("board not found"), 1.0, 0.0);
+    recorder.record(frameAt(5), calibrated, 1.0, 0.0);
+    EXPECT_EQ(recorder.tracked(), 1);  // 4 was lost, so 0..3 were written before the late poses
+    recorder.record(frameAt(6), initialising, 1.0, 0.0);  // waits, then flushed by writeSummary
+    recorder.writeSummary(nlohmann::json::object());
+  }
+  const auto lines = readLines(dir.file("frames.csv"));
+  ASSERT_EQ(lines.size(), 8u);
+  const std::vector<std::string> status = {"initialising", "initialising", "lost", "initialising",
+                                           "lost", "board", "initialising"};
+  for (int i = 0; i < 7; ++i) {
+    EXPECT_EQ(std::stoi(splitCsv(lines[i + 1])[0]), i);
+    EXPECT_EQ(splitCsv(lines[i + 1])[2], status[i]) << i;
+  }
+
+  // The same with the late poses arriving on the frame right after the initialising ones.
+  test::TempDir dir2;
+  {
+    RunRecorder recorder(dir2.path(), "cslam");
+    recorder.record(frameAt(0), initialising, 1.0, 0.0);
+    recorder.record(frameAt(1), initialising, 1.0, 0.0);
+    recorder.recordUndecodable(frameAt(2), 0.0);
+    recorder.record(frameAt(3), initialising, 1.0, 0.0);
+    FrameResult calibrated = tracked(TrackStatus::Board, T5, 54, 54);
+    calibrated.late_poses = {{1, TrackStatus::Board, T1, 50}, {3, TrackStatus::Board, T3, 52}};
+    recorder.record(frameAt(4), calibrated, 1.0, 0.0);
+    EXPECT_EQ(recorder.tracked(), 3);
+    recorder.writeSummary(nlohmann::json::object());
+  }
+  const auto rows = readLines(dir2.file("frames.csv"));
+  ASSERT_EQ(rows.size(), 6u);
+  const std::vector<std::string> status2 = {"initialising", "board", "lost", "board", "board"};
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(splitCsv(rows[i + 1])[2], status2[i]) << i;
+  EXPECT_EQ(splitCsv(rows[2])[6], "50");
+  const Trajectory t = readTrajectory(dir2.file("trajectory.txt"));
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_NEAR(t[0].timestamp, 10.1, 1e-9);
+  EXPECT_NEAR(t[1].timestamp, 10.3, 1e-9);
+  EXPECT_NEAR(t[2].timestamp, 10.4, 1e-9);
+  EXPECT_LT((t[1].T_world_camera.t() - T3.t()).norm(), 1e-9);
+  const nlohmann::json s = readJson(dir2.file("summary.json"));
+  EXPECT_EQ(s["tracked"], 3);
+  EXPECT_EQ(s["lost"], 2);
+  EXPECT_EQ(s["first_lost_frame"], 0);
+  EXPECT_EQ(s["lost_reasons"]["image could not be decoded"], 1);
+  EXPECT_EQ(s["lost_reasons"]["gathering board views for self-calibration (# of #)"], 1);
+}
+
 TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
   test::TempDir dir;
   RunRecorder recorder(dir.path(), "monoslam");
