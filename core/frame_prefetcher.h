@@ -1,12 +1,14 @@
 #pragma once
-// Decodes frames ahead on a second thread while the tracker works on the current one, so a run
-// costs little more than decoding alone. Errors in the decoding thread (InputError for an image of
-// the wrong size) are rethrown by next() in the caller's thread.
+// Decodes frames ahead on other threads while the tracker works on the current one, so a run
+// costs little more than decoding alone. Image files decode on several threads at once (a frame
+// decodes in twice the time the tracker takes), handed out in order. An error while decoding (an
+// image of the wrong size) is rethrown by next() at that frame, in the caller's thread.
 #include <condition_variable>
-#include <deque>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include "core/sequence.h"
 
@@ -19,8 +21,9 @@ struct DecodedFrame {
 
 class FramePrefetcher {
  public:
-  // Reads at most max_frames (< 0: all) from `source`, keeping up to `depth` frames ready.
-  FramePrefetcher(FrameSource& source, int max_frames, int depth = 4);
+  // Reads at most max_frames (< 0: all) from `source`, keeping up to `depth` frames ready or being
+  // decoded, on `threads` threads (0: as many as cores, at most 3).
+  FramePrefetcher(FrameSource& source, int max_frames, int depth = 8, int threads = 0);
   ~FramePrefetcher();
   FramePrefetcher(const FramePrefetcher&) = delete;
   FramePrefetcher& operator=(const FramePrefetcher&) = delete;
@@ -29,18 +32,30 @@ class FramePrefetcher {
   bool next(DecodedFrame* out);
 
  private:
-  void run();
+  struct Slot {
+    DecodedFrame decoded;
+    std::exception_ptr error;
+  };
+  void work();
+  // Takes the source's next frame into *slot; its position, or -1 at the end.
+  int claim(Slot* slot);
 
   FrameSource& source_;
   const int max_frames_;
-  const size_t depth_;
-  std::mutex mutex_;
+  const int depth_;
+
+  std::mutex source_mutex_;  // claim() order: positions and the source's own state
+  int next_position_ = 0;
+  bool source_done_ = false;
+
+  std::mutex mutex_;  // everything below
   std::condition_variable ready_, space_;
-  std::deque<DecodedFrame> queue_;
-  bool done_ = false;
+  std::map<int, Slot> slots_;  // decoded, by position, waiting for next()
+  int consumed_ = 0;           // positions handed out by next()
+  int reserved_ = 0;           // positions claimed or about to be, not yet handed out
+  int end_ = -1;               // the number of frames, once the source is done
   bool stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;
+  std::vector<std::thread> threads_;
 };
 
 }  // namespace slamcmp

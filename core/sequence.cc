@@ -67,18 +67,21 @@ class ImageListSource : public FrameSource {
   ImageListSource(std::vector<ImageEntry> entries, cv::Size size)
       : entries_(std::move(entries)), size_(size) {}
   int size() const override { return static_cast<int>(entries_.size()); }
-  bool next(Frame* frame) override {
+  bool claim(Frame* frame) override {
     if (next_ >= entries_.size()) return false;
     const ImageEntry& e = entries_[next_];
     frame->index = static_cast<int>(next_++);
     frame->timestamp = e.timestamp;
     frame->source = e.path;
-    frame->grey = readGreyImage(e.path);
-    if (!frame->grey.empty() && frame->grey.size() != size_)
-      throw InputError(e.path, "image is " + std::to_string(frame->grey.cols) + "x" +
-                                   std::to_string(frame->grey.rows) + ", the sequence's are " +
-                                   std::to_string(size_.width) + "x" + std::to_string(size_.height));
+    frame->grey.release();
     return true;
+  }
+  void decode(Frame* frame) const override {
+    frame->grey = readGreyImage(frame->source);
+    if (!frame->grey.empty() && frame->grey.size() != size_)
+      throw InputError(frame->source, "image is " + std::to_string(frame->grey.cols) + "x" +
+                                          std::to_string(frame->grey.rows) + ", the sequence's are " +
+                                          std::to_string(size_.width) + "x" + std::to_string(size_.height));
   }
 
  private:
@@ -92,7 +95,7 @@ class VideoSource : public FrameSource {
   VideoSource(const std::string& path, std::unique_ptr<VideoReader> video, int count, double fps)
       : path_(path), video_(std::move(video)), count_(count), fps_(fps) {}
   int size() const override { return count_; }
-  bool next(Frame* frame) override {
+  bool claim(Frame* frame) override {  // decodes too: a video's frames come in order
     cv::Mat img;
     if (!video_->read(img)) return false;
     frame->index = index_;

@@ -29,7 +29,16 @@ class FrameSource {
   // The next frame, false at the end. A frame whose image cannot be decoded is returned with an
   // empty `grey` (the caller skips and reports it); an image of another size than the sequence's
   // throws InputError.
-  virtual bool next(Frame* frame) = 0;
+  bool next(Frame* frame) {
+    if (!claim(frame)) return false;
+    decode(frame);
+    return true;
+  }
+  // next() in two steps, so that frames decode on several threads at once (FramePrefetcher):
+  // claim() hands out the next frame in order, with its image when the source must decode in order
+  // (a video), without it otherwise (image files); decode() then fills it in, from any thread.
+  virtual bool claim(Frame* frame) = 0;
+  virtual void decode(Frame* /*frame*/) const {}
 };
 
 struct Sequence {
