@@ -3,7 +3,7 @@
 # pinned to one core when taskset exists, repeated so the medians are stable), times whole
 # `slamcmp run`s of the rendered tv1 against decoding the same files alone, and writes
 # docs/benchmarks.md. About 4 minutes on an idle machine, plus about 2 minutes the first time to
-# render tv1 and board_leaves into $TMPDIR (cached there as slamcmp-bench-*).
+# render tv1 (120 frames and whole) and board_leaves into $TMPDIR (cached there as slamcmp-bench-*).
 #   BUILD_DIR (default build), REPETITIONS (default 3) may be set.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,8 +35,8 @@ run_bench bench_stages    # renders tv1 (120 frames) and board_leaves (160) into
 run_bench bench_monoslam
 run_bench bench_tracking
 
-# Whole runs on the same 120 frames of tv1 the benchmarks rendered, on one core and on all.
-SEQUENCE="${TMPDIR:-/tmp}/slamcmp-bench-tv1-120"
+# Whole runs on the whole tv1 (337 frames) that BM_DecodeSequence decoded, on one core and on all.
+SEQUENCE="${TMPDIR:-/tmp}/slamcmp-bench-tv1-0"
 : > "$WORK/runs.tsv"
 for what in cslam/combined cslam/calibration cslam/two_view monoslam; do
   backend=${what%%/*}
