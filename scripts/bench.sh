@@ -14,7 +14,7 @@ trap 'if [[ $? == 0 ]]; then rm -rf "$WORK"; else echo "bench.sh failed: logs in
 
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DSLAMCMP_BUILD_BENCHMARKS=ON > "$WORK/cmake.log" 2>&1 ||
   { cat "$WORK/cmake.log"; exit 1; }
-cmake --build "$BUILD_DIR" -j"$(nproc)" --target slamcmp bench_stages bench_monoslam bench_tracking bench_report \
+cmake --build "$BUILD_DIR" -j"$(nproc)" --target slamcmp decode_only bench_stages bench_monoslam bench_tracking bench_report \
   > "$WORK/build.log" 2>&1 || { tail -n 60 "$WORK/build.log"; exit 1; }
 BENCH="$BUILD_DIR/benchmarks"
 TIMEFORMAT='%R %U %S'
@@ -35,31 +35,34 @@ run_bench bench_stages    # renders tv1 (120 frames) and board_leaves (160) into
 run_bench bench_monoslam
 run_bench bench_tracking
 
-# Whole runs on the whole tv1 (337 frames) that BM_DecodeSequence decoded, on one core and on all.
+# Whole runs on the whole tv1 (337 frames) that BM_DecodeSequence decoded, each against a process
+# that only decodes the same files (decode_only), on one core and on all; the repetitions
+# interleave them so that both see the same machine.
 SEQUENCE="${TMPDIR:-/tmp}/slamcmp-bench-tv1-0"
 : > "$WORK/runs.tsv"
-for what in cslam/combined cslam/calibration cslam/two_view monoslam; do
-  backend=${what%%/*}
-  mode_args=()
-  [[ $what == */* ]] && mode_args=(--mode "${what#*/}")
-  for cores in 1 "$(nproc)"; do
-    pin=()
-    [[ $cores == 1 ]] && pin=("${PIN[@]}")
-    echo "timing slamcmp run $what on $cores core(s)"
-    for ((r = 0; r < REPS; ++r)); do
-      # bash's `time`: wall, user and system seconds of the run and its threads.
-      { time "${pin[@]}" "$SLAMCMP" run --backend "$backend" "${mode_args[@]}" --sequence "$SEQUENCE" \
-          --out "$WORK/run" > "$WORK/run.log" 2>&1 || { cat "$WORK/run.log"; exit 1; }; } 2> "$WORK/time.txt"
-      read -r real user sys < "$WORK/time.txt"
-      echo "$what $cores $real $(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.3f", u + s }')" >> "$WORK/runs.tsv"
+timed() {  # label cores command...: bash's `time` (wall, user and system seconds, all threads)
+  local label=$1 cores=$2
+  shift 2
+  { time "$@" > "$WORK/run.log" 2>&1 || { cat "$WORK/run.log"; exit 1; }; } 2> "$WORK/time.txt"
+  read -r real user sys < "$WORK/time.txt"
+  echo "$label $cores $real $(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.3f", u + s }')" >> "$WORK/runs.tsv"
+}
+for cores in 1 "$(nproc)"; do
+  pin=()
+  [[ $cores == 1 ]] && pin=("${PIN[@]}")
+  echo "timing whole runs on $cores core(s) (${REPS} repetitions)"
+  for ((r = 0; r < REPS; ++r)); do
+    timed decode_only "$cores" "${pin[@]}" "$BENCH/decode_only" "$SEQUENCE"
+    for what in cslam/combined cslam/calibration cslam/two_view monoslam; do
+      mode_args=()
+      [[ $what == */* ]] && mode_args=(--mode "${what#*/}")
+      timed "$what" "$cores" "${pin[@]}" "$SLAMCMP" run --backend "${what%%/*}" "${mode_args[@]}" \
+        --sequence "$SEQUENCE" --out "$WORK/run"
     done
   done
 done
-
 for ((r = 0; r < REPS; ++r)); do  # the fixed cost of starting the process, included above
-  { time "${PIN[@]}" "$SLAMCMP" --help > /dev/null; } 2> "$WORK/time.txt"
-  read -r real user sys < "$WORK/time.txt"
-  echo "process_start 1 $real $(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.3f", u + s }')" >> "$WORK/runs.tsv"
+  timed process_start 1 "${PIN[@]}" "$SLAMCMP" --help
 done
 
 MACHINE="$(lscpu | sed -n 's/^Model name: *//p' | head -n 1), $(nproc) cores; load average $LOAD_BEFORE before, \
