@@ -64,6 +64,7 @@ CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarge
   Progress progress("calibrate", frames.size());
   Frame frame;
   int done = 0, with_board = 0;
+  std::vector<cv::Point2f> last_uv;  // the last view's corners
   while (!calibrator.full() && frames.next(&frame)) {
     progress.update(++done);
     std::vector<cv::Point2f> uv;
@@ -77,6 +78,10 @@ CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarge
       refineChessboardCorners(frame.grey, target, uv);
       if (!orderChessboardCorners(frame.grey, target, uv)) continue;
     }
+    // A symmetric board: the origin nearest the last view's, so that a view turned by 180 degrees
+    // is not taken for a new one.
+    chooseSymmetricOrder(target, uv, last_uv);
+    last_uv = uv;
     ++with_board;
     calibrator.addView(uv);
   }
