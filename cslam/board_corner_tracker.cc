@@ -45,7 +45,7 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
                                                                  const std::vector<cv::Mat>& pyramid,
                                                                  cv::Size lk_window, int lk_levels,
                                                                  const CameraModel* camera, bool allow_search,
-                                                                 const std::vector<cv::Point2f>& predicted) {
+                                                                 const SE3* T_world_camera_last) {
   last_tracked_ = false;
   if (options_.track && camera && !corners_.empty() && !pyramid_prev.empty()) {
     std::vector<cv::Point2f> uv;
@@ -73,7 +73,11 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
   frames_until_search_ = options_.search_interval_when_lost - 1;
   std::vector<cv::Point2f> uv;
   if (!detectChessboard(grey, target_, &uv, options_.detector)) return std::nullopt;
-  chooseSymmetricOrder(target_, uv, predicted.empty() ? last_seen_ : predicted);
+  if (target_.symmetric()) {
+    std::vector<cv::Point2f> predicted;
+    if (camera && T_world_camera_last) predicted = projectBoardCorners(*camera, target_, *T_world_camera_last);
+    chooseSymmetricOrder(target_, uv, predicted.empty() ? last_seen_ : predicted);
+  }
   corners_ = last_seen_ = uv;
   frames_until_search_ = 0;
   return corners_;

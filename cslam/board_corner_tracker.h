@@ -52,13 +52,13 @@ class BoardCornerTracker {
   // camera and the previous frame's pyramid the corners are tracked first. `pyramid_*` come from
   // cv::buildOpticalFlowPyramid with the given window and levels.
   // allow_search = false skips the full search (e.g. the pose says the board is out of view).
-  // A symmetric board found by the full search takes the origin nearest `predicted` (the corners
-  // projected from the last pose), else nearest the last corners seen (chooseSymmetricOrder);
-  // tracked corners keep their order.
+  // A symmetric board found by the full search takes the origin nearest where T_world_camera_last
+  // (the last posed frame's) puts its corners, else nearest the last corners seen
+  // (chooseSymmetricOrder); tracked corners keep their order.
   std::optional<std::vector<cv::Point2f>> find(const cv::Mat& grey, const std::vector<cv::Mat>& pyramid_prev,
                                                const std::vector<cv::Mat>& pyramid, cv::Size lk_window,
                                                int lk_levels, const CameraModel* camera, bool allow_search = true,
-                                               const std::vector<cv::Point2f>& predicted = {});
+                                               const SE3* T_world_camera_last = nullptr);
   bool lastWasTracked() const { return last_tracked_; }
   // Forget the last corners (the next call searches).
   void reset() { corners_.clear(); }

@@ -138,11 +138,8 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
     }
   }
   // A symmetric board's origin is kept by continuity with the last posed frame.
-  std::vector<cv::Point2f> predicted;
-  if (target_.symmetric() && !history_.empty())
-    predicted = projectBoardCorners(*camera_, target_, history_.back().T_world_camera);
-  auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_,
-                             board_expected, predicted);
+  auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected,
+                             history_.empty() ? nullptr : &history_.back().T_world_camera);
   if (!corners) return std::nullopt;
   result->measured = static_cast<int>(corners->size());
   return boardView(std::move(*corners));
@@ -160,16 +157,12 @@ CslamTracker::BoardView CslamTracker::boardView(std::vector<cv::Point2f> uv) con
 }
 
 std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
-  std::vector<LatePose> late(gathered_.size());
-  // Newest first: the board tracker goes on from the newest corners, so a symmetric board's
-  // origin chained back from them is the one of the frames to come.
-  const std::vector<cv::Point2f>* newer = nullptr;
-  for (size_t k = gathered_.size(); k-- > 0;) {
-    GatheredCorners& g = gathered_[k];
-    if (newer) chooseSymmetricOrder(target_, g.uv, *newer);
-    newer = &g.uv;
-    late[k] = {g.frame_index, TrackStatus::Board, boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())};
-  }
+  // The board tracker numbered each view's corners from the origin nearest the view before, so a
+  // symmetric board's origin is already the same in all of them and in the frames to come.
+  std::vector<LatePose> late;
+  late.reserve(gathered_.size());
+  for (const GatheredCorners& g : gathered_)
+    late.push_back({g.frame_index, TrackStatus::Board, boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())});
   gathered_.clear();
   return late;
 }
