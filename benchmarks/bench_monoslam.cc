@@ -23,14 +23,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/camera.h"
-#include "monoslam_ekf/ekf_state.h"
-#include "monoslam_ekf/ekf_update.h"
-#include "monoslam_ekf/frame_measurement.h"
-#include "monoslam_ekf/measurement_model.h"
+#include "ekf/ekf_state.h"
+#include "ekf/ekf_update.h"
+#include "ekf/frame_measurement.h"
+#include "ekf/measurement_model.h"
 #include "monoslam_ekf/monoslam_options.h"
-#include "monoslam_ekf/motion_model.h"
-#include "monoslam_ekf/patch_search.h"
-#include "monoslam_ekf/patch_warp.h"
+#include "ekf/motion_model.h"
+#include "ekf/patch_search.h"
+#include "ekf/patch_warp.h"
 
 namespace slamcmp {
 namespace {

@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "eval/thesis_tables.h"
+#include "eval/report/thesis_tables.h"
 
 namespace slamcmp {
 namespace {

@@ -21,13 +21,13 @@
 
 #include "benchmarks/bench_frames.h"
 #include "core/chessboard.h"
-#include "cslam/board_corner_tracker.h"
+#include "tracking/board_corner_tracker.h"
 #include "cslam/cslam_tracker.h"
-#include "cslam/essential_eight_point.h"
+#include "geometry/essential_eight_point.h"
 #include "cslam/feature_map.h"
-#include "cslam/feature_tracker.h"
-#include "cslam/homography_pose.h"
-#include "cslam/two_view_motion.h"
+#include "tracking/feature_tracker.h"
+#include "geometry/homography_pose.h"
+#include "geometry/two_view_motion.h"
 
 namespace slamcmp {
 namespace {

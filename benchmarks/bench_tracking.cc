@@ -15,12 +15,12 @@
 #include <opencv2/core/utility.hpp>
 
 #include "benchmarks/bench_frames.h"
-#include "eval/tracker_factory.h"
+#include "eval/app/backends.h"
 
 namespace slamcmp {
 namespace {
 
-void BM_Track(benchmark::State& state, const std::string& backend, const std::string& mode) {
+void BM_Track(benchmark::State& state, const BackendRegistration* backend, const std::string& mode) {
   cv::setNumThreads(1);  // one core, as Table 3.2 is quoted
   const BenchSequence& b = defaultRenderedSequence();
   TrackerContext context;
@@ -28,12 +28,13 @@ void BM_Track(benchmark::State& state, const std::string& backend, const std::st
   context.target = b.seq.target;
   context.mode = mode;
   context.image_size = b.seq.image_size;
-  std::unique_ptr<Tracker> tracker = makeTracker(backend, context);
+  const std::unique_ptr<BackendOptions> options = backend->default_options();
+  std::unique_ptr<Tracker> tracker = backend->make(context, *options);
   size_t i = 0;
   for (auto _ : state) {
     if (i == b.frames.size()) {
       state.PauseTiming();
-      tracker = makeTracker(backend, context);
+      tracker = backend->make(context, *options);
       i = 0;
       state.ResumeTiming();
     }
@@ -53,17 +54,14 @@ void BM_DecodeFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeFrame)->Unit(benchmark::kMillisecond);
 
-// One benchmark per back-end and mode that is built in.
+// One benchmark per registered back-end and mode: BM_Track/<backend>[/<mode> when it has several].
 const bool registered = [] {
-  for (const auto& name : trackerNames()) {
-    const std::vector<std::string> modes =
-        name == "cslam" ? std::vector<std::string>{"combined", "calibration", "two_view"} : std::vector<std::string>{""};
-    for (const auto& mode : modes)
-      benchmark::RegisterBenchmark(("BM_Track/" + name + (mode.empty() ? "" : "/" + mode)).c_str(), BM_Track,
-                                   name, mode)
+  for (const BackendRegistration& b : backends())
+    for (const BackendMode& m : b.modes)
+      benchmark::RegisterBenchmark(("BM_Track/" + b.name + (b.modes.size() > 1 ? "/" + m.name : "")).c_str(),
+                                   BM_Track, &b, m.name)
           ->Unit(benchmark::kMillisecond)
           ->MinTime(2.0);
-  }
   return true;
 }();
 

@@ -12,8 +12,8 @@ namespace slamcmp {
 
 void ChessboardDetectorOptions::check() const {
   if (!(refine_window_fraction > 0 && refine_window_fraction < 0.5))
-    throw InputError("chessboard.refine_window_fraction", "must be in (0, 0.5)");
-  if (max_refine_half_window < 1) throw InputError("chessboard.max_refine_half_window", "must be >= 1");
+    throw OptionError("refine_window_fraction", "must be in (0, 0.5)");
+  if (max_refine_half_window < 1) throw OptionError("max_refine_half_window", "must be >= 1");
 }
 
 namespace {

@@ -3,6 +3,7 @@
 // printed as one line, exit code 2.
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace slamcmp {
 
@@ -11,6 +12,17 @@ class InputError : public std::runtime_error {
   // `where` names the file (and line or field); `what` says what is wrong.
   InputError(const std::string& where, const std::string& what)
       : std::runtime_error(where.empty() ? what : where + ": " + what) {}
+};
+
+// Thrown by an options struct's check(): `field` as spelt in its visit(), without a path.
+class OptionError : public std::runtime_error {
+ public:
+  OptionError(std::string field, const std::string& what)
+      : std::runtime_error(what), field_(std::move(field)) {}
+  const std::string& field() const { return field_; }
+
+ private:
+  std::string field_;
 };
 
 // "file:line" for messages about one line of a text file.

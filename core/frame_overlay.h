@@ -9,12 +9,12 @@
 namespace slamcmp {
 
 enum class OverlayFeatureState {
-  Inlier,        // cslam: tracked and consistent with the frame's motion
-  Rejected,      // cslam: dropped this frame (forward-backward or epipolar check)
-  Matched,       // monoslam: searched and matched (drawn red, as SceneLib does)
-  Failed,        // monoslam: searched and not matched (yellow)
-  Unmeasured,    // monoslam: in the map and visible, not selected this frame
-  Initialising,  // monoslam: a depth ray not yet a point
+  Inlier,        // tracked frame to frame and consistent with the frame's motion
+  Rejected,      // dropped this frame by a consistency check (forward-backward, epipolar)
+  Matched,       // searched where the filter predicted it and matched (red, as SceneLib draws)
+  Failed,        // searched and not matched (yellow)
+  Unmeasured,    // in the map and predicted in view, not searched this frame
+  Initialising,  // a depth hypothesis (ray) not yet a point
 };
 const char* toString(OverlayFeatureState state);
 
@@ -38,7 +38,7 @@ struct FrameOverlay {
   std::vector<Vec2> board_axes;
   std::vector<OverlayFeature> features;
   std::vector<OverlayEllipse> search_ellipses;
-  int patch_size = 0;  // side of the matched/failed patches drawn at features (monoslam: 11)
+  int patch_size = 0;  // side of the matched/failed patches drawn at features (0: none)
   // Each initialising feature's depth particles projected into this frame, nearest first.
   std::vector<std::vector<Vec2>> particle_lines;
 };

@@ -1,5 +1,7 @@
 #include "core/frames_csv.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -13,15 +15,22 @@ const char* framesCsvHeader() { return "frame,timestamp,status,ms,decode_ms,feat
 std::string formatFrameRow(const FrameRow& r) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
-                toString(r.status), r.ms, r.decode_ms, r.features, r.measured);
+                statusLabel(r.status, r.source).c_str(), r.ms, r.decode_ms, r.features, r.measured);
   return buf;
 }
 
-TrackStatus parseTrackStatus(const std::string& s, const std::string& where) {
-  for (TrackStatus t : {TrackStatus::Board, TrackStatus::TwoView, TrackStatus::Ekf,
-                        TrackStatus::Initialising, TrackStatus::Lost})
-    if (s == toString(t)) return t;
-  throw InputError(where, "unknown status '" + s + "'");
+void parseStatusColumn(const std::string& s, const std::string& where, FrameRow* row) {
+  row->source.clear();
+  if (s == toString(TrackStatus::Initialising)) {
+    row->status = TrackStatus::Initialising;
+  } else if (s == toString(TrackStatus::Lost)) {
+    row->status = TrackStatus::Lost;
+  } else if (!s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::islower(c) || c == '_'; })) {
+    row->status = TrackStatus::Tracked;
+    row->source = s;
+  } else {
+    throw InputError(where, "status '" + s + "' is neither initialising, lost nor a pose source");
+  }
 }
 
 std::vector<FrameRow> readFramesCsv(const std::string& path) {
@@ -51,7 +60,7 @@ std::vector<FrameRow> readFramesCsv(const std::string& path) {
     } catch (const std::exception&) {
       throw InputError(atLine(path, n), "a field is not a number");
     }
-    r.status = parseTrackStatus(field[2], atLine(path, n));
+    parseStatusColumn(field[2], atLine(path, n), &r);
     rows.push_back(r);
   }
   return rows;

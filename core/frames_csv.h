@@ -11,6 +11,7 @@ struct FrameRow {
   int frame = 0;
   double timestamp = 0;
   TrackStatus status = TrackStatus::Lost;
+  std::string source;    // Tracked: the pose's source, written in the status column
   double ms = 0;         // back-end time, decoding excluded
   double decode_ms = 0;  // image decoding
   int features = 0;
@@ -20,6 +21,8 @@ struct FrameRow {
 const char* framesCsvHeader();  // "frame,timestamp,status,ms,decode_ms,features,measured"
 std::string formatFrameRow(const FrameRow& row);  // with a trailing newline
 std::vector<FrameRow> readFramesCsv(const std::string& path);  // InputError naming file:line
-TrackStatus parseTrackStatus(const std::string& s, const std::string& where);
+// The status column: "initialising", "lost", or else the source of a tracked frame's pose (a
+// lower-case word: "board", "two_view", "ekf").
+void parseStatusColumn(const std::string& s, const std::string& where, FrameRow* row);
 
 }  // namespace slamcmp

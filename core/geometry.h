@@ -44,6 +44,7 @@ class SE3 {
   SE3 operator*(const SE3& o) const { return SE3(R_ * o.R_, R_ * o.t_ + t_); }
   Vec3 operator*(const Vec3& p) const { return R_ * p + t_; }
   Eigen::Matrix4d matrix() const;
+  bool isFinite() const { return R_.allFinite() && t_.allFinite(); }
 
  private:
   Mat3 R_;

@@ -8,8 +8,17 @@
 //   void check() const;  // throws InputError naming the field
 //
 // and from that one list these functions load it from a YAML section (unknown keys and wrong
-// types are errors), write it to JSON (every run records the settings it used) and describe it.
+// types are errors), override single fields (`--set section.key=value`), check every nested struct
+// with the full path in messages, write it to JSON (every run records the settings it used) and
+// describe it. A check() tests its own scalar fields only and names them as they are spelt in
+// visit(); checkOptions walks the nested structs and adds the path:
+//   run.yaml: cslam.map_refinement.max_iterations: must be >= 0
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -63,6 +72,87 @@ struct Loader {
   }
 };
 
+template <class Options>
+void checkTree(const Options& options, const std::string& where);
+
+struct Checker {
+  const std::string& where;
+  template <class T>
+  void operator()(const char* key, T& value, const char* /*doc*/) {
+    const std::string field = where + "." + key;
+    if constexpr (IsOptionsStruct<T>::value) {
+      checkTree(value, field);
+    } else if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(value)) throw InputError(field, "must be a finite number");
+    }
+  }
+};
+
+template <class Options>
+void checkTree(const Options& options, const std::string& where) {
+  Options copy = options;  // visit() takes a mutable struct; checking reads only
+  Checker checker{where};
+  copy.visit(checker);
+  try {
+    options.check();
+  } catch (const OptionError& e) {
+    throw InputError(where + "." + e.field(), e.what());
+  }
+}
+
+// A `--set` value as the field's type: the whole text must parse.
+template <class T>
+T parseScalar(const std::string& text, const std::string& field) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    return text;
+  } else if constexpr (std::is_same_v<T, bool>) {
+    if (text == "true" || text == "1") return true;
+    if (text == "false" || text == "0") return false;
+    throw InputError(field, "must be true or false, got '" + text + "'");
+  } else {
+    const char* begin = text.c_str();
+    char* end = nullptr;
+    errno = 0;
+    if constexpr (std::is_integral_v<T>) {
+      const long long v = std::strtoll(begin, &end, 10);
+      if (text.empty() || *end != '\0' || errno == ERANGE || v < std::numeric_limits<T>::min() ||
+          v > std::numeric_limits<T>::max())
+        throw InputError(field, "must be an integer, got '" + text + "'");
+      return static_cast<T>(v);
+    } else {
+      const double v = std::strtod(begin, &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(v))
+        throw InputError(field, "must be a finite number, got '" + text + "'");
+      return static_cast<T>(v);
+    }
+  }
+}
+
+// Sets the field at `path` (keys joined by '.') from its text, parsed as YAML would parse it.
+struct Setter {
+  const std::string& path;   // what is left to walk, e.g. "refinement.max_iterations"
+  const std::string& text;
+  const std::string& field;  // the whole path, for messages
+  bool found = false;
+
+  template <class T>
+  void operator()(const char* key, T& value, const char* /*doc*/) {
+    const std::string k = key;
+    if constexpr (IsOptionsStruct<T>::value) {
+      if (path.size() > k.size() && path.compare(0, k.size(), k) == 0 && path[k.size()] == '.') {
+        const std::string rest = path.substr(k.size() + 1);
+        Setter inner{rest, text, field};
+        value.visit(inner);
+        if (!inner.found) throw InputError(field, "unknown option");
+        found = true;
+      }
+    } else if (path == k) {
+      value = parseScalar<T>(text, field);
+      found = true;
+    }
+  }
+};
+
 struct JsonWriter {
   nlohmann::json& out;
   template <class T>
@@ -95,17 +185,38 @@ struct Describer {
 
 }  // namespace options_detail
 
-// Loads the fields present in `section` (a YAML map) into `options`, then runs its check().
+// Checks every nested struct and finite number; a message names `where` and the field's path.
+template <class Options>
+void checkOptions(const Options& options, const std::string& where) {
+  options_detail::checkTree(options, where);
+}
+
+// Loads the fields present in `section` (a YAML map) into `options`, without checking them.
 // `where` names the source for messages, e.g. "config.yaml: cslam".
 template <class Options>
+void readOptions(const cv::FileNode& section, const std::string& where, Options& options) {
+  if (section.empty()) return;
+  if (!section.isMap()) throw InputError(where, "must be a map of options");
+  options_detail::Loader loader{section, where, {}};
+  options.visit(loader);
+  loader.rejectUnknown();
+}
+
+// Sets one field from `--set`: `path` as in the YAML ("refinement.max_iterations"), `text` its
+// value. `where` names the section for messages ("--set cslam").
+template <class Options>
+void setOption(const std::string& path, const std::string& text, const std::string& where, Options& options) {
+  const std::string field = where + "." + path;
+  options_detail::Setter setter{path, text, field};
+  options.visit(setter);
+  if (!setter.found) throw InputError(field, "unknown option");
+}
+
+// readOptions then checkOptions.
+template <class Options>
 void loadOptions(const cv::FileNode& section, const std::string& where, Options& options) {
-  if (!section.empty()) {
-    if (!section.isMap()) throw InputError(where, "must be a map of options");
-    options_detail::Loader loader{section, where, {}};
-    options.visit(loader);
-    loader.rejectUnknown();
-  }
-  options.check();
+  readOptions(section, where, options);
+  checkOptions(options, where);
 }
 
 template <class Options>

@@ -45,7 +45,12 @@ RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
   frames_file_.flush();
 }
 
-void RunRecorder::write(const Row& row) {
+void RunRecorder::write(Row row) {
+  if (row.T_world_camera && !row.T_world_camera->isFinite()) {  // the last line of defence: no NaN pose
+    row.T_world_camera.reset();
+    row.status = TrackStatus::Lost;
+    row.reason = "the back-end's pose is not finite";
+  }
   if (row.T_world_camera) {
     ++tracked_;
     trajectory_file_ << formatTumLine({row.timestamp, *row.T_world_camera}) << '\n';
@@ -57,7 +62,7 @@ void RunRecorder::write(const Row& row) {
   }
   const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
                                                                                           : TrackStatus::Lost;
-  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.ms, row.decode_ms, row.features,
+  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.decode_ms, row.features,
                                   row.measured});
   frames_file_.flush();
 }
@@ -65,8 +70,8 @@ void RunRecorder::write(const Row& row) {
 void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, double decode_ms) {
   ++frames_;
   ms_.push_back(ms);
-  const Row row{frame.index, frame.timestamp, r.status, r.T_world_camera, r.features, r.measured, r.reason,
-                ms, decode_ms};
+  const Row row{frame.index, frame.timestamp, r.status, r.source, r.T_world_camera, r.features, r.measured,
+                r.reason, ms, decode_ms};
   if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
     waiting_.push_back(row);
     return;
@@ -75,7 +80,8 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
     const auto at = std::find_if(waiting_.begin(), waiting_.end(),
                                  [&](const Row& w) { return w.index == late.frame_index; });
     if (at == waiting_.end()) continue;  // not an Initialising frame: its row stands
-    at->status = late.status;
+    at->status = TrackStatus::Tracked;
+    at->source = late.source;
     at->T_world_camera = late.T_world_camera;
     at->measured = late.measured;
     at->reason.clear();
@@ -86,8 +92,8 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
 
 void RunRecorder::recordUndecodable(const Frame& frame, double decode_ms) {
   ++frames_;
-  const Row row{frame.index, frame.timestamp, TrackStatus::Lost, std::nullopt, 0, 0, "image could not be decoded",
-                0.0, decode_ms};
+  const Row row{frame.index, frame.timestamp, TrackStatus::Lost, "", std::nullopt, 0, 0,
+                "image could not be decoded", 0.0, decode_ms};
   if (waiting_.empty()) write(row);
   else waiting_.push_back(row);  // keeps the files in frame order
 }

@@ -53,12 +53,13 @@ class RunRecorder {
     int index = 0;
     double timestamp = 0;
     TrackStatus status = TrackStatus::Lost;
+    std::string source;
     std::optional<SE3> T_world_camera;
     int features = 0, measured = 0;
     std::string reason;
     double ms = 0, decode_ms = 0;
   };
-  void write(const Row& row);
+  void write(Row row);
 
   std::vector<Row> waiting_;  // Initialising rows (and undecodable ones among them), in order
   std::string out_dir_;

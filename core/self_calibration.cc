@@ -11,12 +11,12 @@
 namespace slamcmp {
 
 void SelfCalibrationOptions::check() const {
-  if (min_views < 3) throw InputError("calibration.min_views", "must be >= 3 (Zhang needs three views)");
-  if (max_views < min_views) throw InputError("calibration.max_views", "must be >= min_views");
-  if (max_frames < 1) throw InputError("calibration.max_frames", "must be >= 1");
-  if (!(min_view_change >= 0)) throw InputError("calibration.min_view_change", "must be >= 0");
-  if (!(max_rms_px > 0)) throw InputError("calibration.max_rms_px", "must be positive");
-  if (distortion_terms != 4 && distortion_terms != 5) throw InputError("calibration.distortion_terms", "must be 4 or 5");
+  if (min_views < 3) throw OptionError("min_views", "must be >= 3 (Zhang needs three views)");
+  if (max_views < min_views) throw OptionError("max_views", "must be >= min_views");
+  if (max_frames < 1) throw OptionError("max_frames", "must be >= 1");
+  if (!(min_view_change >= 0)) throw OptionError("min_view_change", "must be >= 0");
+  if (!(max_rms_px > 0)) throw OptionError("max_rms_px", "must be positive");
+  if (distortion_terms != 4 && distortion_terms != 5) throw OptionError("distortion_terms", "must be 4 or 5");
 }
 
 SelfCalibrator::SelfCalibrator(const ChessboardTarget& target, cv::Size image_size,

@@ -4,13 +4,15 @@ namespace slamcmp {
 
 const char* toString(TrackStatus status) {
   switch (status) {
-    case TrackStatus::Board: return "board";
-    case TrackStatus::TwoView: return "two_view";
-    case TrackStatus::Ekf: return "ekf";
+    case TrackStatus::Tracked: return "tracked";
     case TrackStatus::Initialising: return "initialising";
     case TrackStatus::Lost: return "lost";
   }
   return "lost";
+}
+
+std::string statusLabel(TrackStatus status, const std::string& source) {
+  return status == TrackStatus::Tracked ? source : toString(status);
 }
 
 const char* toString(OverlayFeatureState state) {

@@ -1,5 +1,5 @@
 #pragma once
-// The one interface both back-ends implement (STYLE: data flows one way).
+// The one interface every back-end implements (STYLE: data flows one way).
 //   Sequence -> Frame -> Tracker::track -> FrameResult -> RunRecorder -> eval
 #include <memory>
 #include <optional>
@@ -16,20 +16,27 @@
 
 namespace slamcmp {
 
-enum class TrackStatus { Board, TwoView, Ekf, Initialising, Lost };
-const char* toString(TrackStatus status);  // "board", "two_view", "ekf", "initialising", "lost"
+// Method-neutral: a frame is posed (Tracked, with the pose's source in the back-end's own words),
+// still starting (Initialising) or Lost (with its reason).
+enum class TrackStatus { Tracked, Initialising, Lost };
+const char* toString(TrackStatus status);  // "tracked", "initialising", "lost"
+
+// frames.csv's status column: the pose's source for a tracked frame ("board", "two_view", "ekf"),
+// else "initialising" or "lost".
+std::string statusLabel(TrackStatus status, const std::string& source);
 
 // A pose found later for an earlier frame the tracker returned as Initialising (cslam: frames that
 // showed the board while it gathered self-calibration views, posed once the camera is known).
 struct LatePose {
   int frame_index = 0;
-  TrackStatus status = TrackStatus::Board;
+  std::string source;  // as FrameResult::source
   SE3 T_world_camera;
   int measured = 0;
 };
 
 struct FrameResult {
   TrackStatus status = TrackStatus::Lost;
+  std::string source;                 // Tracked: where the pose came from ("board", "two_view", "ekf")
   std::optional<SE3> T_world_camera;  // empty when lost or initialising: never a made-up pose
   int features = 0;                   // features the back-end holds (tracked or in the map)
   int measured = 0;                   // features measured in this frame
@@ -51,10 +58,8 @@ enum class InitSource { Board, GroundTruth, Manual };
 struct TrackerContext {
   std::optional<CameraModel> camera;       // none: the back-end self-calibrates or refuses
   std::optional<ChessboardTarget> target;  // the board that defines the world frame
-  cv::FileNode options;                    // the back-end's section of --config (may be empty)
-  std::string options_source = "options";  // for messages, e.g. "run.yaml: cslam"
-  std::string mode;                        // back-end specific ("combined", ...); "" = default
-  InitSource init = InitSource::Board;
+  std::string mode;                        // one of the back-end's registered modes, never ""
+  InitSource init = InitSource::Board;     // back-ends registered with takes_init only
   std::optional<SE3> T_world_camera_init;  // for GroundTruth and Manual initialisation
   cv::Size image_size;
   bool want_overlay = false;  // fill FrameResult::overlay (run --overlay / --show)

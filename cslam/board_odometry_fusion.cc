@@ -7,9 +7,9 @@
 namespace slamcmp {
 
 void BoardOdometryFusionOptions::check() const {
-  if (!(min_pixel_sigma > 0)) throw InputError("fusion.min_pixel_sigma", "must be positive");
-  if (!(motion_noise_scale > 0)) throw InputError("fusion.motion_noise_scale", "must be positive");
-  if (!(max_mahalanobis2 > 0)) throw InputError("fusion.max_mahalanobis2", "must be positive");
+  if (!(min_pixel_sigma > 0)) throw OptionError("min_pixel_sigma", "must be positive");
+  if (!(motion_noise_scale > 0)) throw OptionError("motion_noise_scale", "must be positive");
+  if (!(max_mahalanobis2 > 0)) throw OptionError("max_mahalanobis2", "must be positive");
 }
 
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,

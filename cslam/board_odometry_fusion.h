@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "core/geometry.h"
-#include "cslam/pose_refinement.h"
+#include "geometry/pose_refinement.h"
 
 namespace slamcmp {
 

@@ -6,29 +6,21 @@
 
 #include "core/error.h"
 #include "core/options.h"
-#include "cslam/essential_eight_point.h"
-#include "cslam/pose_refinement.h"
-#include "cslam/triangulation.h"
+#include "geometry/essential_eight_point.h"
+#include "geometry/pose_refinement.h"
+#include "geometry/triangulation.h"
 
 namespace slamcmp {
 
 void CslamOptions::check() const {
-  if (lk_window_px < 5 || lk_window_px % 2 == 0) throw InputError("cslam.lk_window_px", "must be odd and >= 5");
-  if (lk_levels < 0 || lk_levels > 6) throw InputError("cslam.lk_levels", "must be in [0, 6]");
-  board.check();
-  board_pose.check();
-  features.check();
-  if (!(max_epipolar_error_px > 0)) throw InputError("cslam.max_epipolar_error_px", "must be positive");
-  two_view.check();
-  if (reference_frames < 1) throw InputError("cslam.reference_frames", "must be >= 1");
-  if (min_scale_points < 1) throw InputError("cslam.min_scale_points", "must be >= 1");
-  map_refinement.check();
-  if (!(max_map_error_px > 0)) throw InputError("cslam.max_map_error_px", "must be positive");
-  map.check();
-  fusion.check();
-  if (two_view_init_map_points < 1) throw InputError("cslam.two_view_init_map_points", "must be >= 1");
-  calibration.check();
-  if (max_late_poses < 0) throw InputError("cslam.max_late_poses", "must be >= 0");
+  if (lk_window_px < 5 || lk_window_px % 2 == 0) throw OptionError("lk_window_px", "must be odd and >= 5");
+  if (lk_levels < 0 || lk_levels > 6) throw OptionError("lk_levels", "must be in [0, 6]");
+  if (!(max_epipolar_error_px > 0)) throw OptionError("max_epipolar_error_px", "must be positive");
+  if (reference_frames < 1) throw OptionError("reference_frames", "must be >= 1");
+  if (min_scale_points < 1) throw OptionError("min_scale_points", "must be >= 1");
+  if (!(max_map_error_px > 0)) throw OptionError("max_map_error_px", "must be positive");
+  if (two_view_init_map_points < 1) throw OptionError("two_view_init_map_points", "must be >= 1");
+  if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
 }
 
 namespace {
@@ -162,7 +154,7 @@ std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
   std::vector<LatePose> late;
   late.reserve(gathered_.size());
   for (const GatheredCorners& g : gathered_)
-    late.push_back({g.frame_index, TrackStatus::Board, boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())});
+    late.push_back({g.frame_index, "board", boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())});
   gathered_.clear();
   return late;
 }
@@ -346,7 +338,8 @@ FrameResult CslamTracker::track(const Frame& frame) {
   std::optional<BoardView> board;
   if (use_board && (board = boardPoseInFrame(frame.grey, &result))) {
     T_world_camera = board->T_world_camera;
-    result.status = TrackStatus::Board;
+    result.status = TrackStatus::Tracked;
+    result.source = "board";
   }
 
   if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
@@ -358,7 +351,8 @@ FrameResult CslamTracker::track(const Frame& frame) {
     } else if (history_.empty()) {
       result.reason = "no board yet: the world frame is not set";
     } else if ((T_world_camera = twoViewPose(xy, &result))) {
-      result.status = TrackStatus::TwoView;
+      result.status = TrackStatus::Tracked;
+      result.source = "two_view";
     }
   }
   if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
@@ -410,15 +404,21 @@ CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<V
   return m;
 }
 
-std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context) {
-  if (!context.target)
-    throw InputError("--target", "cslam needs the chessboard target (target.yaml beside the sequence or --target)");
-  CslamOptions options;
-  loadOptions(context.options, context.options_source, options);
-  cv::Size size = context.image_size;
-  if (context.camera) size = cv::Size(context.camera->width, context.camera->height);
-  return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options,
-                                        context.want_overlay);
+BackendRegistration cslamBackend() {
+  return makeRegistration<CslamOptions>(
+      "cslam", "calibration integrated SLAM (thesis ch. 3): board pose, LK features, two-view motion, map",
+      {{"combined", "cslam (combined)", "#1f77b4", "CSLAM with two-view"},
+       {"calibration", "cslam calibration", "#d62728", "CSLAM without two-view"},
+       {"two_view", "cslam two_view", "#2ca02c"}},
+      /*takes_init=*/false, [](const TrackerContext& context, const CslamOptions& options) {
+        if (!context.target)
+          throw InputError("--target",
+                           "cslam needs the chessboard target (target.yaml beside the sequence or --target)");
+        cv::Size size = context.image_size;
+        if (context.camera) size = cv::Size(context.camera->width, context.camera->height);
+        return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options,
+                                              context.want_overlay);
+      });
 }
 
 }  // namespace slamcmp

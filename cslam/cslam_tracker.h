@@ -17,14 +17,15 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/backend_registry.h"
 #include "core/tracker.h"
-#include "cslam/board_corner_tracker.h"
+#include "tracking/board_corner_tracker.h"
 #include "cslam/board_odometry_fusion.h"
 #include "cslam/feature_map.h"
-#include "cslam/feature_tracker.h"
-#include "cslam/homography_pose.h"
+#include "tracking/feature_tracker.h"
+#include "geometry/homography_pose.h"
 #include "core/self_calibration.h"
-#include "cslam/two_view_motion.h"
+#include "geometry/two_view_motion.h"
 
 namespace slamcmp {
 
@@ -159,8 +160,7 @@ class CslamTracker : public Tracker {
   int posed_frames_ = 0;
 };
 
-// The factory's entry (eval/tracker_factory.cc): options from context.options, mode from
-// context.mode; throws InputError for a missing target or a bad mode or option.
-std::unique_ptr<Tracker> makeCslamTracker(const TrackerContext& context);
+// The back-end's registration (core/backend_registry.h): modes combined, calibration, two_view.
+BackendRegistration cslamBackend();
 
 }  // namespace slamcmp

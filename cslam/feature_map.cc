@@ -9,9 +9,9 @@ namespace slamcmp {
 
 void FeatureMapOptions::check() const {
   if (method != "least_squares" && method != "midpoint_average")
-    throw InputError("map.method", "must be least_squares or midpoint_average, got '" + method + "'");
-  if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw InputError("map.min_parallax_deg", "must be in [0, 90)");
-  if (!(max_ray_error_px > 0)) throw InputError("map.max_ray_error_px", "must be positive");
+    throw OptionError("method", "must be least_squares or midpoint_average, got '" + method + "'");
+  if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw OptionError("min_parallax_deg", "must be in [0, 90)");
+  if (!(max_ray_error_px > 0)) throw OptionError("max_ray_error_px", "must be positive");
 }
 
 FeatureMap::FeatureMap(const FeatureMapOptions& options, double focal_px)

@@ -9,7 +9,7 @@
 
 #include "core/geometry.h"
 #include "core/tracker.h"
-#include "cslam/triangulation.h"
+#include "geometry/triangulation.h"
 
 namespace slamcmp {
 

@@ -11,10 +11,10 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "monoslam_ekf/board_pose.h"
-#include "monoslam_ekf/corner_selection.h"
-#include "monoslam_ekf/measurement_model.h"
-#include "monoslam_ekf/monoslam_overlay.h"
-#include "monoslam_ekf/motion_model.h"
+#include "ekf/corner_selection.h"
+#include "ekf/measurement_model.h"
+#include "ekf/ekf_overlay.h"
+#include "ekf/motion_model.h"
 
 namespace slamcmp {
 
@@ -28,8 +28,8 @@ std::string fixed(double value, int digits) {
 
 }  // namespace
 
-MonoslamTracker::MonoslamTracker(const TrackerContext& context)
-    : init_(context.init), want_overlay_(context.want_overlay) {
+MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOptions& options)
+    : options_(options), init_(context.init), want_overlay_(context.want_overlay) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
   if (!context.target)
@@ -41,7 +41,6 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context)
       throw InputError("--init", "groundtruth and manual initialisation need the first camera pose");
     T_world_camera_init_ = context.T_world_camera_init;
   }
-  loadOptions(context.options, context.options_source, options_);
 }
 
 nlohmann::json MonoslamTracker::options() const { return optionsToJson(options_); }
@@ -223,7 +222,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
     manageMap(frame);
     if (want_overlay_) {
-      result.overlay = monoslamOverlay(state_, features_, FrameMeasurement(), camera_, target_, options_.search.patch_size);
+      result.overlay = ekfOverlay(state_, features_, FrameMeasurement(), camera_, target_, options_.search.patch_size);
       result.overlay->board_corners = start_corners_;
     }
   } else {
@@ -236,7 +235,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     result.measured = measurement.matched;
     // Before updateRays and manageMap, which may remove features `measurement` points into.
     if (want_overlay_)
-      result.overlay = monoslamOverlay(state_, features_, measurement, camera_, target_, options_.search.patch_size);
+      result.overlay = ekfOverlay(state_, features_, measurement, camera_, target_, options_.search.patch_size);
     frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
     updateRays(frame);
     manageMap(frame);
@@ -250,7 +249,8 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
       return result;
     }
   }
-  result.status = TrackStatus::Ekf;
+  result.status = TrackStatus::Tracked;
+  result.source = "ekf";
   result.T_world_camera = last_pose_ = state_.T_world_camera();
   result.features = static_cast<int>(features_.size());
   if (result.measured == 0 && frames_unmeasured_ > 0) result.reason = "no feature matched: prediction only";
@@ -274,8 +274,13 @@ std::vector<MapPoint> MonoslamTracker::mapPoints() const {
   return points;
 }
 
-std::unique_ptr<Tracker> makeMonoslamTracker(const TrackerContext& context) {
-  return std::make_unique<MonoslamTracker>(context);
+BackendRegistration monoslamBackend() {
+  return makeRegistration<MonoslamOptions>(
+      "monoslam", "the MonoSLAM baseline (Davison 2007, SceneLib defaults): EKF, particle depths, 11x11 patches",
+      {{"ekf", "monoslam", "#000000", "MonoSLAM"}}, /*takes_init=*/true,
+      [](const TrackerContext& context, const MonoslamOptions& options) {
+        return std::make_unique<MonoslamTracker>(context, options);
+      });
 }
 
 }  // namespace slamcmp

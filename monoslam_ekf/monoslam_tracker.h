@@ -6,10 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "core/backend_registry.h"
 #include "core/tracker.h"
-#include "monoslam_ekf/ekf_state.h"
-#include "monoslam_ekf/frame_measurement.h"
-#include "monoslam_ekf/map_feature.h"
+#include "ekf/ekf_state.h"
+#include "ekf/frame_measurement.h"
+#include "ekf/map_feature.h"
 #include "monoslam_ekf/monoslam_options.h"
 
 namespace slamcmp {
@@ -17,8 +18,8 @@ namespace slamcmp {
 class MonoslamTracker : public Tracker {
  public:
   // Throws InputError without a camera or a target, or without T_world_camera_init for
-  // groundtruth/manual initialisation, or for bad options.
-  explicit MonoslamTracker(const TrackerContext& context);
+  // groundtruth/manual initialisation. `options` are checked (checkOptions).
+  MonoslamTracker(const TrackerContext& context, const MonoslamOptions& options);
 
   std::string name() const override { return "monoslam"; }
   FrameResult track(const Frame& frame) override;
@@ -55,6 +56,7 @@ class MonoslamTracker : public Tracker {
   std::mt19937 rng_{0};
 };
 
-std::unique_ptr<Tracker> makeMonoslamTracker(const TrackerContext& context);
+// The back-end's registration (core/backend_registry.h): one mode, "ekf".
+BackendRegistration monoslamBackend();
 
 }  // namespace slamcmp

@@ -97,8 +97,8 @@ BadCase runCase(const std::string& name, std::function<void(const std::string& s
             for (const auto& s : mention) m.push_back(s.rfind("seq/", 0) == 0 ? tmp.file(s) : s);
             std::string args = extra_args;  // "{seq}" stands for the sequence folder
             if (const auto at = args.find("{seq}"); at != std::string::npos) args.replace(at, 5, seq);
-            return Invocation{
-                "run --backend cslam --sequence " + seq + " --out " + tmp.file("out") + " " + args, m};
+            const std::string backend = args.find("--backend") == std::string::npos ? "--backend cslam " : "";
+            return Invocation{"run " + backend + "--sequence " + seq + " --out " + tmp.file("out") + " " + args, m};
           }};
 }
 
@@ -248,12 +248,12 @@ std::vector<BadCase> cases() {
       yamlCase("BoardParserHang", "target.yaml", "%YAML:1.0\n---a:1\nb: --W-\n", "not valid YAML"),
       configCase("ConfigTopLevelList", "%YAML:1.0\n- cslam\n", "top level"),
       // The --config options file.
-      configCase("ConfigMalformed", "%YAML:1.0\ncslam: [1, 2\n", "YAML"),
-      configCase("ConfigUnknownOption", "%YAML:1.0\ncslam:\n  no_such_option: 3\n", "cslam.no_such_option"),
-      configCase("ConfigWrongType", "%YAML:1.0\ncslam:\n  board:\n    track: perhaps\n", "cslam.board.track"),
-      configCase("ConfigNaN", "%YAML:1.0\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
+      configCase("ConfigMalformed", "%YAML:1.0\n---\ncslam: [1, 2\n", "YAML"),
+      configCase("ConfigUnknownOption", "%YAML:1.0\n---\ncslam:\n  no_such_option: 3\n", "cslam.no_such_option"),
+      configCase("ConfigWrongType", "%YAML:1.0\n---\ncslam:\n  board:\n    track: perhaps\n", "cslam.board.track"),
+      configCase("ConfigNaN", "%YAML:1.0\n---\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
                  "cslam.board.max_grid_error_px"),
-      configCase("ConfigSectionNotMap", "%YAML:1.0\ncslam: 3\n", "cslam"),
+      configCase("ConfigSectionNotMap", "%YAML:1.0\n---\ncslam: 3\n", "cslam"),
       // Ground truth and EuRoC lists beside a sequence.
       runCase("GroundTruthShortLine",
               [](const std::string& seq) {
@@ -316,7 +316,35 @@ std::vector<BadCase> cases() {
           "MaxFramesNegative", [](const std::string&) {}, {"--max-frames", "-1"}, "--max-frames -1"),
       runCase(
           "InitManualFileMalformed", [](const std::string& seq) { writeText(seq + "/pose.txt", "0 1 2\n"); },
-          {"seq/pose.txt:1", "fields"}, "--init manual:{seq}/pose.txt"),
+          {"seq/pose.txt:1", "fields"}, "--backend monoslam --init manual:{seq}/pose.txt"),
+      // Back-end options through the registry.
+      runCase(
+          "InitRefusedByABackEndWithoutIt", [](const std::string&) {}, {"--init", "cslam takes no --init"},
+          "--init groundtruth"),
+      runCase(
+          "ModeUnknown", [](const std::string&) {}, {"--mode", "no mode 'fast'", "combined"}, "--mode fast"),
+      runCase(
+          "SetUnknownOption", [](const std::string&) {}, {"cslam.features.max_feature", "unknown option"},
+          "--set cslam.features.max_feature=10"),
+      runCase(
+          "SetValueNotANumber", [](const std::string&) {}, {"cslam.lk_levels", "integer"}, "--set cslam.lk_levels=three"),
+      runCase(
+          "SetOutOfRangeNamesTheFullPath", [](const std::string&) {},
+          {"cslam.map_refinement.max_iterations", ">= 0"}, "--set cslam.map_refinement.max_iterations=-1"),
+      runCase(
+          "SetWithoutSection", [](const std::string&) {}, {"--set lk_levels=2", "SECTION.KEY=VALUE"},
+          "--set lk_levels=2"),
+      runCase(
+          "SetForAnotherBackEnd", [](const std::string&) {}, {"--set monoslam.search.patch_size=9", "cslam"},
+          "--set monoslam.search.patch_size=9"),
+      runCase(
+          "ConfigRangeErrorNamesFileAndPath",
+          [](const std::string& seq) { writeText(seq + "/run.yaml", "%YAML:1.0\n---\ncslam:\n  map_refinement:\n    max_iterations: -3\n"); },
+          {"seq/run.yaml: cslam.map_refinement.max_iterations", ">= 0"}, "--config {seq}/run.yaml"),
+      runCase(
+          "ConfigMisspeltSection",
+          [](const std::string& seq) { writeText(seq + "/run.yaml", "%YAML:1.0\n---\ncslm:\n  lk_levels: 2\n"); },
+          {"seq/run.yaml: cslm", "unknown back-end"}, "--config {seq}/run.yaml"),
       // Trajectories given to eval: TUM, EuRoC, KITTI.
       {"EvalNoAssociation",
        [](const TempDir& tmp) {

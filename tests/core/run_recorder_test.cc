@@ -37,9 +37,10 @@ Frame frameAt(int index) {
   return f;
 }
 
-FrameResult tracked(TrackStatus status, const SE3& T, int features, int measured) {
+FrameResult tracked(const std::string& source, const SE3& T, int features, int measured) {
   FrameResult r;
-  r.status = status;
+  r.status = TrackStatus::Tracked;
+  r.source = source;
   r.T_world_camera = T;
   r.features = features;
   r.measured = measured;
@@ -60,9 +61,9 @@ TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
   const SE3 T2 = SE3::fromRotvec(Vec3(0.15, -0.2, 0.3), Vec3(0.6, 0.25, -1.0));
   {
     RunRecorder recorder(out, "cslam");
-    recorder.record(frameAt(0), tracked(TrackStatus::Board, T0, 54, 54), 5.0, 1.5);
+    recorder.record(frameAt(0), tracked("board", T0, 54, 54), 5.0, 1.5);
     recorder.record(frameAt(1), lost("board not found"), 1.0, 1.25);
-    recorder.record(frameAt(2), tracked(TrackStatus::TwoView, T2, 120, 80), 3.0, 1.0);
+    recorder.record(frameAt(2), tracked("two_view", T2, 120, 80), 3.0, 1.0);
     recorder.recordUndecodable(frameAt(3), 0.5);
     FrameResult initialising;
     initialising.status = TrackStatus::Initialising;
@@ -131,9 +132,9 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
     recorder.record(frameAt(3), initialising, 1.0, 0.0);
     EXPECT_EQ(recorder.frames(), 4);
     EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 1u);  // the header: the rows wait
-    FrameResult calibrated = tracked(TrackStatus::Board, T5, 54, 54);
-    calibrated.late_poses = {{1, TrackStatus::Board, T1, 54}, {3, TrackStatus::Board, T3, 54},
-                             {4, TrackStatus::Board, T3, 54}};  // 4 was not initialising: ignored
+    FrameResult calibrated = tracked("board", T5, 54, 54);
+    calibrated.late_poses = {{1, "board", T1, 54}, {3, "board", T3, 54},
+                             {4, "board", T3, 54}};  // 4 was not initialising: ignored
     recorder.record(frameAt(4), lost("board not found"), 1.0, 0.0);
     recorder.record(frameAt(5), calibrated, 1.0, 0.0);
     EXPECT_EQ(recorder.tracked(), 1);  // 4 was lost, so 0..3 were written before the late poses
@@ -157,8 +158,8 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
     recorder.record(frameAt(1), initialising, 1.0, 0.0);
     recorder.recordUndecodable(frameAt(2), 0.0);
     recorder.record(frameAt(3), initialising, 1.0, 0.0);
-    FrameResult calibrated = tracked(TrackStatus::Board, T5, 54, 54);
-    calibrated.late_poses = {{1, TrackStatus::Board, T1, 50}, {3, TrackStatus::Board, T3, 52}};
+    FrameResult calibrated = tracked("board", T5, 54, 54);
+    calibrated.late_poses = {{1, "board", T1, 50}, {3, "board", T3, 52}};
     recorder.record(frameAt(4), calibrated, 1.0, 0.0);
     EXPECT_EQ(recorder.tracked(), 3);
     recorder.writeSummary(nlohmann::json::object());
@@ -186,7 +187,7 @@ TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
   test::TempDir dir;
   RunRecorder recorder(dir.path(), "monoslam");
   for (int i = 0; i < 3; ++i)
-    recorder.record(frameAt(i), tracked(TrackStatus::Ekf, SE3(), 10, 9), 2.0 * (i + 1), 0.0);
+    recorder.record(frameAt(i), tracked("ekf", SE3(), 10, 9), 2.0 * (i + 1), 0.0);
   const nlohmann::json s = recorder.summary();
   EXPECT_EQ(s["frames"], 3);
   EXPECT_EQ(s["tracked"], 3);

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "eval/align_umeyama.h"
+#include "eval/metrics/align_umeyama.h"
 
 namespace slamcmp {
 namespace {

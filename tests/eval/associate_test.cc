@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "eval/associate.h"
+#include "eval/metrics/associate.h"
 
 namespace slamcmp {
 namespace {

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/trajectory.h"
-#include "eval/trajectory_metrics.h"
+#include "eval/metrics/trajectory_metrics.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {

@@ -1,13 +1,13 @@
 // Map accuracy statistics: hand-computed on a few errors, and the real room scene read back from
 // scene.yaml scores points on its surfaces as zero and points pushed off the board as the push.
-#include "eval/map_metrics.h"
+#include "eval/metrics/map_metrics.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "datasets/room_scene.h"
-#include "eval/scene_distance.h"
+#include "eval/metrics/scene_distance.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {

@@ -1,7 +1,7 @@
 // Point-to-surface distance against hand-computed cases: inside a rectangle it is the distance to
 // its plane, beyond an edge or corner the distance to that edge or corner (never to the infinite
 // plane), for tilted and skewed surfaces too.
-#include "eval/scene_distance.h"
+#include "eval/metrics/scene_distance.h"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "eval/trajectory_metrics.h"
+#include "eval/metrics/trajectory_metrics.h"
 
 namespace slamcmp {
 namespace {

@@ -120,7 +120,7 @@ TempDir* FaultyTv1::dir_ = nullptr;
 TEST_F(FaultyTv1, CslamCombinedLosesTheBlankFramesAndRecoversWithTheBoard) {
   const Run r = run("cslam", "--backend cslam");
   for (int i = kBlankFirst; i <= kBlankLast; ++i) EXPECT_EQ(r.rows[i].status, TrackStatus::Lost) << i;
-  EXPECT_EQ(r.rows[kCslamBackBy].status, TrackStatus::Board);
+  EXPECT_EQ(r.rows[kCslamBackBy].source, "board");
   expectFaultsReportedAndRecovered(r, kCslamBackBy, 0.005);
 }
 

@@ -38,7 +38,7 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
   context.image_size = seq.image_size;
   context.init = init;
   context.T_world_camera_init = T_init;
-  MonoslamTracker tracker(context);
+  MonoslamTracker tracker(context, MonoslamOptions{});
   RunResult run;
   Frame frame;
   while ((max_frames < 0 || run.frames < max_frames) && seq.frames->next(&frame)) {
@@ -106,7 +106,7 @@ TEST_F(MonoslamOnTv1, MapPointsCarryTheirUncertainty) {
   TrackerContext context;
   context.camera = seq.camera;
   context.target = seq.target;
-  MonoslamTracker tracker(context);
+  MonoslamTracker tracker(context, MonoslamOptions{});
   Frame frame;
   for (int i = 0; i < 30 && seq.frames->next(&frame); ++i) tracker.track(frame);
   const std::vector<MapPoint> points = tracker.mapPoints();
@@ -129,12 +129,12 @@ TEST_F(MonoslamOnTv1, OverlayShowsWhatWasSearchedAndMatched) {
   context.camera = seq.camera;
   context.target = seq.target;
   context.want_overlay = true;
-  MonoslamTracker tracker(context);
+  MonoslamTracker tracker(context, MonoslamOptions{});
   MonoslamTracker plain([&] {
     TrackerContext c = context;
     c.want_overlay = false;
     return c;
-  }());
+  }(), MonoslamOptions{});
   Frame frame;
   int matched_total = 0, rays = 0;
   for (int i = 0; i < 15 && seq.frames->next(&frame); ++i) {
@@ -200,7 +200,7 @@ TEST(MonoslamTracker, NoBoardMeansInitialisingWithAReason) {
   context.camera = CameraModel::fromOpenCV(
       (cv::Mat_<double>(3, 3) << 500, 0, 319.5, 0, 500, 239.5, 0, 0, 1), cv::Mat::zeros(1, 5, CV_64F), {640, 480});
   context.target = ChessboardTarget{9, 6, 0.04};
-  MonoslamTracker tracker(context);
+  MonoslamTracker tracker(context, MonoslamOptions{});
   cv::Mat noise(480, 640, CV_8U);
   cv::randu(noise, 0, 255);
   for (int i = 0; i < 3; ++i) {
@@ -217,12 +217,12 @@ TEST(MonoslamTracker, NoBoardMeansInitialisingWithAReason) {
 
 TEST(MonoslamTracker, RefusesContextsItCannotWorkWith) {
   TrackerContext context;
-  EXPECT_THROW(MonoslamTracker{context}, InputError);  // no camera
+  EXPECT_THROW(MonoslamTracker(context, MonoslamOptions{}), InputError);  // no camera
   context.camera = CameraModel::fromOpenCV(cv::Mat::eye(3, 3, CV_64F), cv::Mat::zeros(1, 5, CV_64F), {640, 480});
-  EXPECT_THROW(MonoslamTracker{context}, InputError);  // no target
+  EXPECT_THROW(MonoslamTracker(context, MonoslamOptions{}), InputError);  // no target
   context.target = ChessboardTarget{9, 6, 0.04};
   context.init = InitSource::Manual;
-  EXPECT_THROW(MonoslamTracker{context}, InputError);  // manual without a pose
+  EXPECT_THROW(MonoslamTracker(context, MonoslamOptions{}), InputError);  // manual without a pose
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // OverlayDrawer on hand-built FrameOverlays: each primitive is drawn in its colour where the
 // overlay puts it, the 3-sigma ellipse has the size S gives, and the status and legend are drawn
 // even when the back-end filled no overlay.
-#include "eval/overlay_drawing.h"
+#include "eval/overlay/overlay_drawing.h"
 
 #include <gtest/gtest.h>
 
@@ -40,9 +40,10 @@ int nearestColourError(const cv::Mat& image, const Vec2& uv, const cv::Scalar& c
   return best;
 }
 
-FrameResult resultWith(FrameOverlay overlay, TrackStatus status = TrackStatus::Board) {
+FrameResult resultWith(FrameOverlay overlay, const std::string& source = "board") {
   FrameResult r;
-  r.status = status;
+  r.status = TrackStatus::Tracked;
+  r.source = source;
   r.overlay = std::move(overlay);
   return r;
 }
@@ -89,7 +90,7 @@ TEST(OverlayDrawing, FeatureStatesInTheirColours) {
                 {6, Vec2(400.0, 150.0), OverlayFeatureState::Initialising}};
   OverlayDrawer drawer;
   std::vector<DrawnPrimitive> drawn;
-  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, TrackStatus::Ekf), &drawn);
+  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, "ekf"), &drawn);
   EXPECT_EQ(at(image, o.features[1].uv), bgr(overlay_colour::kRejected));
   EXPECT_EQ(at(image, o.features[5].uv), bgr(overlay_colour::kInitialising));
   // Patches: an outline one pixel outside the 11x11 patch (half size 5), which stays untouched.
@@ -124,7 +125,7 @@ TEST(OverlayDrawing, SearchEllipseIsThreeSigmaOfS) {
                        {10, Vec2(500, 300), Mat2::Identity() * 16, false}};
   OverlayDrawer drawer;
   std::vector<DrawnPrimitive> drawn;
-  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, TrackStatus::Ekf), &drawn);
+  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, "ekf"), &drawn);
   const Vec2 major = R.col(0), minor = R.col(1);
   // On the curve (anti-aliased: some pixel within 1 px holds the colour to within a few levels).
   EXPECT_LE(nearestColourError(image, centre + 30 * major, overlay_colour::kMatched, 1), 40);
@@ -148,7 +149,7 @@ TEST(OverlayDrawing, ParticleLineJoinsTheParticles) {
   o.particle_lines = {{Vec2(100, 300), Vec2(150, 300), Vec2(200, 320)}};
   OverlayDrawer drawer;
   std::vector<DrawnPrimitive> drawn;
-  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, TrackStatus::Ekf), &drawn);
+  const cv::Mat image = drawer.draw(greyFrame(), resultWith(o, "ekf"), &drawn);
   EXPECT_LE(nearestColourError(image, Vec2(125, 300), overlay_colour::kInitialising, 1), 40);
   EXPECT_LE(nearestColourError(image, Vec2(175, 310), overlay_colour::kInitialising, 1), 40);
   EXPECT_TRUE(untouched(at(image, Vec2(150, 310))));

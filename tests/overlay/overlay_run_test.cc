@@ -17,7 +17,7 @@
 #include "core/target.h"
 #include "core/trajectory.h"
 #include "datasets/synth_sequence.h"
-#include "eval/overlay_drawing.h"
+#include "eval/overlay/overlay_drawing.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -139,7 +139,7 @@ TEST_F(OverlayRun, CslamPngsShowTheBoardWhereTheGroundTruthProjectsIt) {
   // Every frame posed from the board shows all its corners; tv1 keeps the board in view.
   int board_frames = 0;
   for (const FrameRow& f : frames)
-    if (f.status == TrackStatus::Board) {
+    if (f.source == "board") {
       EXPECT_EQ(corners_in_frame[f.frame], target.numCorners()) << "frame " << f.frame;
       ++board_frames;
     }

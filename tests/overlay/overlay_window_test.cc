@@ -1,6 +1,6 @@
 // `run --show`'s window: refused with one clear message where no display exists, and kept open
 // frame after frame where one does (Qt's offscreen platform stands in for a display here).
-#include "eval/overlay_window.h"
+#include "eval/overlay/overlay_window.h"
 
 #include <cstdlib>
 

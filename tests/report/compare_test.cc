@@ -1,4 +1,4 @@
-#include "eval/compare.h"
+#include "eval/app/compare.h"
 
 #include <filesystem>
 #include <fstream>
@@ -10,25 +10,36 @@
 
 #include "core/error.h"
 #include "datasets/synth_sequence.h"
-#include "eval/thesis_tables.h"
-#include "eval/tracker_factory.h"
+#include "eval/report/thesis_tables.h"
+#include "eval/app/backends.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
 namespace {
 
 TEST(Compare, ParsesMethodsWithModes) {
-  const std::string first = trackerNames().at(0);
-  const auto methods = parseMethods(first + "," + first + ":calibration");
-  ASSERT_EQ(methods.size(), 2u);
-  EXPECT_EQ(methods[0].label(), first);
-  EXPECT_EQ(methods[1].mode, "calibration");
-  EXPECT_EQ(methods[1].slug(), first + "-calibration");
+  for (const BackendRegistration& b : backends()) {
+    const BackendMode& last = b.modes.back();
+    const auto methods = parseMethods(b.modes.size() > 1 ? b.name + "," + b.name + ":" + last.name : b.name);
+    ASSERT_EQ(methods.size(), b.modes.size() > 1 ? 2u : 1u) << b.name;
+    EXPECT_EQ(methods[0].label(), b.name);
+    EXPECT_EQ(methods[0].colour, b.modes.front().colour);
+    if (b.modes.size() == 1) continue;
+    EXPECT_EQ(methods[1].mode, last.name);
+    EXPECT_EQ(methods[1].slug(), b.name + "-" + last.name);
+    EXPECT_EQ(methods[1].colour, last.colour);
+  }
 }
 
 TEST(Compare, RefusesUnknownAndEmptyMethodLists) {
   EXPECT_THROW(parseMethods("nosuchslam"), InputError);
   EXPECT_THROW(parseMethods(","), InputError);
+  const BackendRegistration& b = backends().front();
+  EXPECT_THROW(parseMethods(b.name + ":nosuchmode"), InputError);
+  EXPECT_THROW(parseMethods(b.name + ":"), InputError);
+  // The same run twice (also as its default mode spelt out) would write into one folder.
+  EXPECT_THROW(parseMethods(b.name + "," + b.name), InputError);
+  EXPECT_THROW(parseMethods(b.name + "," + b.name + ":" + b.modes.front().name), InputError);
 }
 
 TEST(Compare, ThesisTablesHoldTheFourVideos) {

@@ -1,0 +1,79 @@
+#include "ekf/ekf_options.h"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace slamcmp {
+
+namespace {
+
+void require(bool ok, const std::string& field, const std::string& what) {
+  if (!ok) throw OptionError(field, what);
+}
+
+}  // namespace
+
+void MotionModelOptions::check() const {
+  require(sigma_a > 0, "sigma_a", "must be positive, got " + std::to_string(sigma_a));
+  require(sigma_alpha > 0, "sigma_alpha", "must be positive, got " + std::to_string(sigma_alpha));
+  require(reference_rate > 0, "reference_rate", "must be positive");
+  require(default_dt > 0, "default_dt", "must be positive, got " + std::to_string(default_dt));
+}
+
+void ActiveSearchOptions::check() const {
+  require(patch_size >= 3 && patch_size % 2 == 1, "patch_size",
+          "must be odd and at least 3, got " + std::to_string(patch_size));
+  require(sigma_gate > 0, "sigma_gate", "must be positive");
+  require(min_ncc > -1 && min_ncc <= 1, "min_ncc", "must be in (-1, 1]");
+  require(min_patch_stddev >= 0, "min_patch_stddev", "must not be negative");
+  require(pixel_sigma > 0, "pixel_sigma", "must be positive");
+  require(features_per_frame >= 1, "features_per_frame", "must be at least 1");
+  require(max_search_half_axis > 0, "max_search_half_axis", "must be positive");
+  require(max_candidates >= 1, "max_candidates", "must be at least 1");
+  require(joint_gate > 0 && joint_gate < 1, "joint_gate", "must be in (0, 1)");
+  require(consistency_gate > 0 && consistency_gate < 1, "consistency_gate", "must be in (0, 1)");
+  require(source_size >= patch_size && source_size % 2 == 1, "source_size",
+          "must be odd and at least patch_size, got " + std::to_string(source_size));
+}
+
+void FeatureInitOptions::check() const {
+  require(particles >= 2, "particles", "must be at least 2");
+  require(min_depth > 0 && max_depth > min_depth, "min_depth",
+          "need 0 < min_depth < max_depth");
+  require(promote_ratio > 0, "promote_ratio", "must be positive");
+  require(min_particles >= 1 && min_particles <= particles, "min_particles",
+          "must be in [1, particles]");
+  require(prune_threshold >= 0 && prune_threshold < 1, "prune_threshold",
+          "must be in [0, 1)");
+  require(max_frames >= 1, "max_frames", "must be at least 1");
+  require(max_initialising >= 0, "max_initialising", "must not be negative");
+  require(min_visible >= 0, "min_visible", "must not be negative");
+  require(box_width >= 16 && box_height >= 16, "box_width", "boxes must be at least 16x16");
+  require(min_corner_eigenvalue >= 0, "min_corner_eigenvalue", "must not be negative");
+}
+
+void MapManagementOptions::check() const {
+  require(max_features >= 1, "max_features", "must be at least 1");
+  require(min_attempts >= 1, "min_attempts", "must be at least 1");
+  require(min_success_ratio >= 0 && min_success_ratio <= 1, "min_success_ratio", "must be in [0, 1]");
+}
+
+void HealthOptions::check() const {
+  require(max_frames_unmeasured >= 1, "max_frames_unmeasured", "must be at least 1");
+  require(max_speed > 0, "max_speed", "must be positive");
+  require(max_angular_speed > 0, "max_angular_speed", "must be positive");
+  require(max_position_sigma > 0, "max_position_sigma", "must be positive");
+}
+
+void StartOptions::check() const {
+  for (const auto& [field, sigma] : {std::pair{"position_sigma", position_sigma},
+                                      {"orientation_sigma", orientation_sigma},
+                                      {"manual_position_sigma", manual_position_sigma},
+                                      {"manual_orientation_sigma", manual_orientation_sigma},
+                                      {"velocity_sigma", velocity_sigma},
+                                      {"angular_velocity_sigma", angular_velocity_sigma}})
+    require(sigma >= 0 && std::isfinite(sigma), field, "must be a finite standard deviation >= 0");
+}
+
+}  // namespace slamcmp

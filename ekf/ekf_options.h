@@ -1,0 +1,149 @@
+#pragma once
+// The options of the EKF's pieces (SPEC section 5), shared by the EKF back-ends. Defaults are
+// SceneLib's where it has one (monoslam.cpp: 100 particles over 0.5-5 m, 20 particles minimum,
+// prune 0.05, 10-12 features a frame, 80x60 initialisation boxes) except the motion noise and the
+// promotion ratio (see below).
+#include "core/options.h"
+
+namespace slamcmp {
+
+// Constant velocity with acceleration impulses V = a dt, W = alpha dt. SceneLib's sigma_a and
+// sigma_alpha give the impulses at its 30 Hz: std(V) = sigma_a / 30 a frame. At another frame
+// interval dt the impulse variance scales linearly with dt, as for continuous white-noise
+// acceleration (velocity a random walk): var(V) = (sigma_a / rate)^2 * (dt * rate) with
+// rate = reference_rate, i.e. std(V) = sigma_a * sqrt(dt / reference_rate); the same for W.
+// At 10 fps that is sqrt(3) times SceneLib's per-frame impulse. The defaults are half SceneLib's
+// (its 4 and 6 are for a hand-held camera): the slow synthetic and tripod sequences stay tracked,
+// search ellipses shrink about twofold (tv1..tv4 ~10x faster) and fewer false peaks fall inside
+// them (board_leaves: ATE 30 cm -> 7 mm; tv3 5.8 -> 2.4 mm; tv1, tv4, vamr within 0.6 mm).
+struct MotionModelOptions {
+  double sigma_a = 2.0;           // m/s^2, linear acceleration noise at the reference rate
+  double sigma_alpha = 3.0;       // rad/s^2, angular acceleration noise at the reference rate
+  double reference_rate = 30.0;   // Hz, the frame rate sigma_a and sigma_alpha are defined at
+  double default_dt = 1.0 / 30;   // s, used when timestamps do not increase
+  template <class V>
+  void visit(V& v) {
+    v("sigma_a", sigma_a, "m/s^2, linear acceleration noise at reference_rate");
+    v("sigma_alpha", sigma_alpha, "rad/s^2, angular acceleration noise at reference_rate");
+    v("reference_rate", reference_rate,
+      "Hz; impulse std = sigma * sqrt(dt / reference_rate) (white-noise acceleration)");
+    v("default_dt", default_dt, "s, frame interval when timestamps do not increase");
+  }
+  void check() const;
+};
+
+struct ActiveSearchOptions {
+  int patch_size = 11;               // pixels, odd
+  double sigma_gate = 3.0;           // search ellipse, in standard deviations
+  double min_ncc = 0.8;              // accept a match at or above this correlation
+  double min_patch_stddev = 10.0;    // grey levels; flatter templates are not searched
+  double pixel_sigma = 1.0;          // pixels, measurement noise
+  int features_per_frame = 12;       // measured a frame, the most uncertain first
+  double max_search_half_axis = 120; // pixels; features with a larger 3-sigma ellipse are skipped
+  int max_candidates = 6;            // correlation peaks kept per feature for the association
+  double joint_gate = 0.99;          // joint compatibility test probability (chi2 of 2k dof)
+  double consistency_gate = 0.999;   // each match against the others' prediction of it (chi2, 2 dof)
+  int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
+  template <class V>
+  void visit(V& v) {
+    v("patch_size", patch_size, "pixels, odd");
+    v("sigma_gate", sigma_gate, "search ellipse, in standard deviations");
+    v("min_ncc", min_ncc, "accept a match at or above this normalised cross-correlation");
+    v("min_patch_stddev", min_patch_stddev, "grey levels; flatter templates are not searched");
+    v("pixel_sigma", pixel_sigma, "pixels, measurement noise");
+    v("features_per_frame", features_per_frame, "features measured a frame, most uncertain first");
+    v("max_search_half_axis", max_search_half_axis, "pixels; larger search ellipses are skipped");
+    v("max_candidates", max_candidates, "correlation peaks kept per feature for the association");
+    v("joint_gate", joint_gate, "joint compatibility test probability (chi2 of 2k dof)");
+    v("consistency_gate", consistency_gate,
+      "probability of the test of each match against the others' prediction of it (chi2, 2 dof)");
+    v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
+  }
+  void check() const;
+};
+
+struct FeatureInitOptions {
+  int particles = 100;             // depth hypotheses along the ray
+  double min_depth = 0.5;          // m
+  double max_depth = 5.0;          // m
+  // SceneLib's 0.3 promotes with little parallax; 0.2 waits for more and the point's depth is
+  // right (tv4, moving along the optical axis: ATE 5.1 cm -> 2 mm; tv1 5.8 -> 4.8 mm).
+  double promote_ratio = 0.2;      // promote when depth std / mean falls below this
+  int min_particles = 20;          // fewer surviving particles: the feature is dropped
+  double prune_threshold = 0.05;   // particles under this fraction of the best weight are pruned
+  int max_frames = 20;             // frames a ray may take to converge before it is dropped
+  int max_initialising = 1;        // rays being initialised at once
+  int min_visible = 12;            // start a new feature when fewer map features are visible
+  int box_width = 80;              // pixels, the image box searched for a new corner
+  int box_height = 60;             // pixels
+  double min_corner_eigenvalue = 0.002;  // Shi-Tomasi minimum eigenvalue (OpenCV scale, 3x3 block)
+  template <class V>
+  void visit(V& v) {
+    v("particles", particles, "depth hypotheses along a new feature's ray");
+    v("min_depth", min_depth, "m, nearest depth hypothesis");
+    v("max_depth", max_depth, "m, farthest depth hypothesis");
+    v("promote_ratio", promote_ratio, "promote to a 3D point when depth std/mean is below this");
+    v("min_particles", min_particles, "a ray with fewer surviving particles is dropped");
+    v("prune_threshold", prune_threshold, "particles under this fraction of the best weight are pruned");
+    v("max_frames", max_frames, "frames a ray may take to converge before it is dropped");
+    v("max_initialising", max_initialising, "rays initialising at once");
+    v("min_visible", min_visible, "start a new feature when fewer map features are visible");
+    v("box_width", box_width, "pixels, width of the box searched for a new corner");
+    v("box_height", box_height, "pixels, height of the box searched for a new corner");
+    v("min_corner_eigenvalue", min_corner_eigenvalue, "Shi-Tomasi minimum eigenvalue (OpenCV scale)");
+  }
+  void check() const;
+};
+
+struct MapManagementOptions {
+  int max_features = 100;            // mapped points plus initialising rays
+  int min_attempts = 10;             // attempts before a feature may be judged
+  double min_success_ratio = 0.5;    // a judged feature matching less often than this is deleted
+  template <class V>
+  void visit(V& v) {
+    v("max_features", max_features, "mapped points plus initialising rays");
+    v("min_attempts", min_attempts, "match attempts before a feature may be deleted");
+    v("min_success_ratio", min_success_ratio, "delete a feature matching less often than this");
+  }
+  void check() const;
+};
+
+struct HealthOptions {
+  int max_frames_unmeasured = 10;  // consecutive frames without an accepted match: lost
+  double max_speed = 10.0;         // m/s; a faster camera estimate is divergence
+  double max_angular_speed = 20.0; // rad/s
+  double max_position_sigma = 1.0; // m; a larger camera position std is divergence
+  template <class V>
+  void visit(V& v) {
+    v("max_frames_unmeasured", max_frames_unmeasured, "frames without an accepted match before lost");
+    v("max_speed", max_speed, "m/s; a faster camera estimate means divergence");
+    v("max_angular_speed", max_angular_speed, "rad/s; a faster camera estimate means divergence");
+    v("max_position_sigma", max_position_sigma, "m; larger camera position std means divergence");
+  }
+  void check() const;
+};
+
+// The first camera state's uncertainty. SceneLib starts from a known pose with zero uncertainty,
+// right for a pose solved from the board or taken from ground truth. A hand-measured start
+// (`--init manual:FILE`) gets manual_* instead: with zero uncertainty a 1 cm / 1 degree error is
+// never corrected and new features inherit it (tv1: up to 14 cm of drift).
+struct StartOptions {
+  double position_sigma = 0.0;          // m
+  double orientation_sigma = 0.0;       // per quaternion component (about half the angle in rad)
+  double manual_position_sigma = 0.02;  // m, for --init manual
+  double manual_orientation_sigma = 0.02;  // per quaternion component, for --init manual
+  double velocity_sigma = 0.0;          // m/s
+  double angular_velocity_sigma = 0.0;  // rad/s
+  template <class V>
+  void visit(V& v) {
+    v("position_sigma", position_sigma, "m, first camera position std (board, groundtruth)");
+    v("orientation_sigma", orientation_sigma, "first camera quaternion std per component (board, groundtruth)");
+    v("manual_position_sigma", manual_position_sigma, "m, first camera position std for --init manual");
+    v("manual_orientation_sigma", manual_orientation_sigma, "first quaternion std per component for --init manual");
+    v("velocity_sigma", velocity_sigma, "m/s, first velocity std");
+    v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std");
+  }
+  void check() const;
+};
+
+}  // namespace slamcmp

@@ -1,0 +1,72 @@
+#include "ekf/ekf_overlay.h"
+
+#include "ekf/measurement_model.h"
+
+namespace slamcmp {
+
+namespace {
+
+OverlayFeatureState overlayState(SearchOutcome outcome) {
+  switch (outcome) {
+    case SearchOutcome::Matched: return OverlayFeatureState::Matched;
+    case SearchOutcome::Failed: return OverlayFeatureState::Failed;
+    case SearchOutcome::Unmeasured: break;
+  }
+  return OverlayFeatureState::Unmeasured;
+}
+
+}  // namespace
+
+FrameOverlay ekfOverlay(const EkfState& state, const std::vector<MapFeature>& features,
+                             const FrameMeasurement& measurement, const CameraModel& camera,
+                             const ChessboardTarget& target, int patch_size) {
+  FrameOverlay overlay;
+  overlay.patch_size = patch_size;
+  for (const FeatureSearch& s : measurement.features) {
+    OverlayFeature f;
+    f.id = features[s.index].id;
+    f.state = overlayState(s.outcome);
+    f.uv = s.outcome == SearchOutcome::Matched ? s.uv_matched : s.uv_predicted;
+    overlay.features.push_back(f);
+    if (s.outcome == SearchOutcome::Unmeasured) continue;
+    OverlayEllipse e;
+    e.feature_id = f.id;
+    e.centre = s.uv_predicted;
+    e.S = s.S;
+    e.matched = s.outcome == SearchOutcome::Matched;
+    overlay.search_ellipses.push_back(e);
+  }
+  auto project = [&](const Vec3& p_world, Vec2* uv) {
+    PointMeasurement m;
+    if (!predictMeasurement(camera, state.r(), state.q(), p_world, &m)) return false;
+    *uv = m.uv_distorted;
+    return true;
+  };
+  for (const MapFeature& f : features) {
+    if (!f.is_ray) continue;
+    const Vec3 r0 = state.x().segment<3>(f.offset), h = state.x().segment<3>(f.offset + 3);
+    OverlayFeature o;
+    o.id = f.id;
+    o.state = OverlayFeatureState::Initialising;
+    if (project(r0 + f.particles.mean() * h, &o.uv)) overlay.features.push_back(o);
+    std::vector<Vec2> line;  // particles are kept in increasing depth
+    for (double d : f.particles.depth) {
+      Vec2 uv;
+      if (project(r0 + d * h, &uv)) line.push_back(uv);
+    }
+    overlay.particle_lines.push_back(std::move(line));
+  }
+  const double axis = 1.5 * target.square_size;
+  const Vec3 ends[4] = {Vec3::Zero(), Vec3(axis, 0, 0), Vec3(0, axis, 0), Vec3(0, 0, axis)};
+  for (const Vec3& p : ends) {
+    Vec2 uv;
+    if (!project(p, &uv)) {
+      overlay.board_axes.clear();
+      break;
+    }
+    overlay.board_axes.push_back(uv);
+  }
+  return overlay;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,33 @@
+#pragma once
+// The EKF update from the matched points of a frame, in one batch.
+#include <vector>
+
+#include "ekf/ekf_state.h"
+#include "ekf/measurement_model.h"
+
+namespace slamcmp {
+
+struct PointObservation {
+  int offset = 0;          // state offset of the point's 3 coordinates
+  Vec2 z = Vec2::Zero();   // measured pixel (distorted)
+  PointMeasurement h;      // prediction and Jacobians at the prior state
+};
+
+// One point's innovation covariance H P H^T + pixel_sigma^2 I. H is non-zero only over the
+// camera's (r, q), which are contiguous, and the point's y, so only those 10x10 entries of P are
+// read: O(1) whatever the map size.
+Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma);
+
+// The joint innovation covariance of the stacked predictions (2m x 2m, observation i at rows 2i,
+// 2i+1), from the rows and columns of (r, q) and the m points only: O(m^2).
+Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
+                                     double pixel_sigma);
+
+// K = P H^T S^-1, x += K (z - h), P -= K S K^T, then q renormalised with its Jacobian applied to P.
+// With S = L L^T and W = P H^T L^-T: x += W L^-1 (z - h) and P -= W W^T, a symmetric rank-2m
+// update of P's lower triangle mirrored to the upper (O(n^2 m), half the flops of K (P H^T)^T,
+// and P stays exactly symmetric; the Joseph form would cost O(n^3)).
+// Returns false, leaving the state untouched, when S is not positive definite.
+bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
+
+}  // namespace slamcmp

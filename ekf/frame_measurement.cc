@@ -1,0 +1,135 @@
+#include "ekf/frame_measurement.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "core/image.h"
+#include "ekf/ekf_update.h"
+#include "ekf/joint_compatibility.h"
+#include "ekf/measurement_model.h"
+#include "ekf/patch_search.h"
+
+namespace slamcmp {
+
+FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
+                                 const cv::Mat& grey, const ActiveSearchOptions& so) {
+  FrameMeasurement out;
+  const int half = so.patch_size / 2;
+  std::vector<PointMeasurement> h_visible;  // parallel to out.features
+  std::vector<size_t> selectable;           // into out.features
+  for (size_t i = 0; i < features.size(); ++i) {
+    const MapFeature& f = features[i];
+    if (f.is_ray) continue;
+    PointMeasurement h;
+    if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(f.offset), &h)) continue;
+    if (!camera.inImage(h.uv_distorted, half + 1)) continue;
+    FeatureSearch s;
+    s.index = i;
+    s.uv_predicted = h.uv_distorted;
+    s.S = pointInnovationCovariance(state, h, f.offset, so.pixel_sigma);
+    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
+    if (max_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
+    out.features.push_back(s);
+    h_visible.push_back(h);
+  }
+  out.visible = static_cast<int>(out.features.size());
+  // The most uncertain features first: they tell the filter the most.
+  std::sort(selectable.begin(), selectable.end(), [&](size_t a, size_t b) {
+    return out.features[a].S.determinant() > out.features[b].S.determinant();
+  });
+  if (static_cast<int>(selectable.size()) > so.features_per_frame) selectable.resize(so.features_per_frame);
+
+  // Search each selected feature's ellipse with its warped template.
+  const SE3 T_world_camera = state.T_world_camera();
+  std::vector<PointObservation> searched;
+  std::vector<std::vector<Vec2>> candidates_uv;
+  std::vector<size_t> searched_slot;  // into out.features
+  for (size_t slot : selectable) {
+    FeatureSearch& s = out.features[slot];
+    MapFeature& f = features[s.index];
+    s.outcome = SearchOutcome::Failed;
+    ++f.attempts;
+    cv::Mat templ;
+    if (!warpTemplate(f.source, camera, T_world_camera, state.x().segment<3>(f.offset), s.uv_predicted,
+                      so.patch_size, &templ) ||
+        patchStdDev(templ) < so.min_patch_stddev)
+      continue;
+    std::vector<PatchMatch> matches = searchEllipses(grey, templ, {{s.uv_predicted, s.S}}, so.sigma_gate, so.min_ncc);
+    if (matches.empty()) continue;
+    // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
+    // equally well and the correct one is the most likely, not the best scoring.
+    const Mat2 S_inv = s.S.inverse();
+    auto distance = [&](const PatchMatch& m) {
+      const Vec2 d = m.uv - s.uv_predicted;
+      return d.dot(S_inv * d);
+    };
+    std::sort(matches.begin(), matches.end(),
+              [&](const PatchMatch& a, const PatchMatch& b) { return distance(a) < distance(b); });
+    if (static_cast<int>(matches.size()) > so.max_candidates) matches.resize(so.max_candidates);
+    PointObservation o;
+    o.offset = f.offset;
+    o.h = h_visible[slot];
+    searched.push_back(o);
+    candidates_uv.emplace_back();
+    for (const PatchMatch& m : matches) candidates_uv.back().push_back(m.uv);
+    searched_slot.push_back(slot);
+  }
+  if (searched.empty()) return out;
+
+  // The jointly compatible choice among the candidates, then one update.
+  std::vector<Vec2> predicted;
+  for (const PointObservation& o : searched) predicted.push_back(o.h.uv_distorted);
+  const std::vector<int> choice = jointCompatibleAssociation(
+      predicted, innovationCovariance(state, searched, so.pixel_sigma), candidates_uv, so.joint_gate);
+  std::vector<PointObservation> observations;
+  std::vector<size_t> observed_slot;
+  for (size_t k = 0; k < searched.size(); ++k) {
+    if (choice[k] < 0) continue;
+    searched[k].z = candidates_uv[k][choice[k]];
+    observations.push_back(searched[k]);
+    observed_slot.push_back(searched_slot[k]);
+  }
+  // Each match against the prediction the others make of it: a patch sliding along an occluding
+  // edge drifts a few pixels a frame, inside its own (large, at 10 fps) ellipse and jointly
+  // compatible, yet it disagrees with the rest; drop the worst such match until all agree.
+  const double consistency_threshold = chiSquaredQuantile(2, so.consistency_gate);
+  while (observations.size() > 2) {
+    const int m = static_cast<int>(observations.size());
+    const Eigen::LDLT<Eigen::MatrixXd> S(innovationCovariance(state, observations, so.pixel_sigma));
+    Eigen::VectorXd nu(2 * m);
+    for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
+    const Eigen::VectorXd S_inv_nu = S.solve(nu);
+    const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
+    int worst = -1;
+    double worst_d2 = consistency_threshold;
+    for (int k = 0; k < m; ++k) {
+      // (S^-1 nu)_k^T ((S^-1)_kk)^-1 (S^-1 nu)_k: the chi2 of match k given all the others.
+      const Vec2 a = S_inv_nu.segment<2>(2 * k);
+      const double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+      if (d2 > worst_d2) {
+        worst_d2 = d2;
+        worst = k;
+      }
+    }
+    if (worst < 0) break;
+    observations.erase(observations.begin() + worst);
+    observed_slot.erase(observed_slot.begin() + worst);
+  }
+  // An innovation covariance that is not positive definite means the filter's numbers broke: no
+  // update, and the frame counts as unmeasured (the health check then ends the run of frames).
+  if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
+  for (size_t k = 0; k < observations.size(); ++k) {
+    FeatureSearch& s = out.features[observed_slot[k]];
+    s.outcome = SearchOutcome::Matched;
+    s.uv_matched = observations[k].z;
+    ++features[s.index].successes;
+  }
+  out.matched = static_cast<int>(observations.size());
+  return out;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,23 @@
+#pragma once
+// One feature of the MonoSLAM map: a 3D point, or a ray still being initialised (feature_ray.h),
+// with its appearance and its match record.
+#include <opencv2/core.hpp>
+
+#include "ekf/feature_ray.h"
+#include "ekf/patch_warp.h"
+
+namespace slamcmp {
+
+struct MapFeature {
+  int id = 0;
+  int offset = 0;        // state offset: 3 values for a point, 6 for a ray
+  bool is_ray = false;   // initialising: ray plus depth particles
+  bool known = false;    // a board corner with zero uncertainty
+  PatchSource source;
+  cv::Mat ray_template;  // the unwarped first-view template, for the particle search
+  DepthParticles particles;
+  int ray_frames = 0;
+  int attempts = 0, successes = 0;
+};
+
+}  // namespace slamcmp

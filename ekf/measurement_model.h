@@ -1,0 +1,31 @@
+#pragma once
+// The measurement of a 3D point (SPEC section 5): h = project(R(q)^T (y - r)) through the full
+// camera model (distortion included), with its Jacobians with respect to r, q and y.
+#include <Eigen/Core>
+
+#include "core/camera.h"
+#include "ekf/quaternion_jacobians.h"
+
+namespace slamcmp {
+
+using Mat23 = Eigen::Matrix<double, 2, 3>;
+using Mat24 = Eigen::Matrix<double, 2, 4>;
+
+struct PointMeasurement {
+  Vec2 uv_distorted;
+  Vec3 p_camera;
+  Mat23 H_r;  // d h / d r
+  Mat24 H_q;  // d h / d q
+  Mat23 H_y;  // d h / d y
+};
+
+// False when the point is closer than min_depth in front of the camera (no projection).
+bool predictMeasurement(const CameraModel& camera, const Vec3& r, const Vec4& q, const Vec3& y_world,
+                        PointMeasurement* out, double min_depth = 1e-3);
+
+// The unit ray, in the world frame, through the distorted pixel uv seen from a camera with
+// orientation q; J_q = d ray / d q, J_uv = d ray / d uv.
+Vec3 rayFromPixel(const CameraModel& camera, const Vec4& q, const Vec2& uv_distorted,
+                  Mat34* J_q = nullptr, Eigen::Matrix<double, 3, 2>* J_uv = nullptr);
+
+}  // namespace slamcmp

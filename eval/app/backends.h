@@ -1,0 +1,33 @@
+#pragma once
+// The registered back-ends (core/backend_registry.h): the one list that names them.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/backend_registry.h"
+
+namespace slamcmp {
+
+// Every back-end built in, in the order tables and figures show them.
+const std::vector<BackendRegistration>& backends();
+
+// The back-end called `name`; throws InputError(where, ...) listing the known names.
+const BackendRegistration& findBackend(const std::string& name, const std::string& where = "--backend");
+
+// "a|b|c" of the registered names, for help texts.
+std::string backendNames(const std::string& separator = "|");
+
+// The back-end's mode: `mode` ("" = its default); throws InputError(where, ...) listing its modes.
+const BackendMode& findMode(const BackendRegistration& backend, const std::string& mode,
+                            const std::string& where = "--mode");
+
+// Every back-end with its modes and its options with their defaults, as commented YAML (run --help).
+std::string backendsHelp();
+
+// The back-end's options: defaults, then its section of the YAML file `config_path` ("" = none),
+// then each `--set section.key=value` naming this back-end, checked. A top-level section of the
+// file that names no back-end, or a --set for another back-end, is an InputError.
+std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
+                                                   const std::vector<std::string>& sets);
+
+}  // namespace slamcmp

@@ -1,0 +1,42 @@
+#include <algorithm>
+#include <iostream>
+#include <memory>
+
+#include "core/camera.h"
+#include "core/sequence.h"
+#include "core/target.h"
+#include "core/self_calibration.h"
+#include "eval/app/commands.h"
+
+namespace slamcmp {
+
+void addCalibrateCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("calibrate",
+                                 "calibrate the camera (intrinsics and distortion, Zhang's method) from "
+                                 "the chessboard views of a sequence, video or image folder; writes camera.yaml");
+  struct Args {
+    std::string sequence, target, out;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("--sequence", args->sequence, "sequence folder (rgb.txt), image folder or video file")->required();
+  cmd->add_option("--target", args->target, "target.yaml of the chessboard")->required();
+  cmd->add_option("--out", args->out, "camera.yaml to write")->required();
+  cmd->callback([args] {
+    SequenceOpenOptions open;
+    open.target_path = args->target;
+    open.allow_symmetric_target = true;  // intrinsics do not depend on the board's orientation
+    Sequence seq = openSequence(args->sequence, open);
+    SelfCalibrationOptions options;
+    if (seq.kind == "images") {
+      // A folder of photos is a set of chosen views: keep them all.
+      options.min_view_change = 0;
+      options.max_views = std::max(options.max_views, seq.frames->size());
+    }
+    const CalibrationResult r = calibrateFromFrames(*seq.frames, *seq.target, seq.image_size, options, args->sequence);
+    writeCameraYaml(args->out, r.camera, r.rms_px);
+    std::cout << "calibrated from " << r.views << " views: fx " << r.camera.fx << " fy " << r.camera.fy << " cx "
+              << r.camera.cx << " cy " << r.camera.cy << ", rms " << r.rms_px << " px -> " << args->out << "\n";
+  });
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,123 @@
+// slamcmp eval: trajectory error of an estimate against ground truth (SPEC section 4), and the
+// error of a map (map.ply) against a synthetic scene's true surfaces (scene.yaml).
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include "core/error.h"
+#include "core/map_ply.h"
+#include "core/trajectory.h"
+#include "eval/app/commands.h"
+#include "eval/metrics/map_metrics.h"
+#include "eval/metrics/trajectory_metrics.h"
+
+namespace slamcmp {
+
+namespace {
+
+struct EvalRequest {
+  std::string groundtruth_path;
+  std::string estimate_path;
+  std::string map_path;
+  std::string scene_path;
+  EvalOptions options;
+  bool json = false;
+};
+
+void printRow(const char* name, const ErrorStatistics& s) {
+  std::printf("%-15s %11.6f %11.6f %11.6f %11.6f %11.6f %11.6f\n", name, s.rmse, s.mean, s.median,
+              s.std, s.min, s.max);
+}
+
+void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
+  std::printf("%zu pose pairs (max-diff %g s), alignment %s", e.pairs.size(),
+              request.options.max_diff, e.align.c_str());
+  if (e.align == "sim3") std::printf(", scale %.6f", e.T_gt_estimate.scale);
+  std::printf("; RPE over %d frame%s, %zu pairs\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
+              e.rpe_trans.size());
+  std::printf("%-15s %11s %11s %11s %11s %11s %11s\n", "", "rmse", "mean", "median", "std", "min",
+              "max");
+  printRow("ATE trans (m)", e.ate_trans_stats);
+  printRow("ATE rot (deg)", e.ate_rot_deg_stats);
+  printRow("RPE trans (m)", e.rpe_trans_stats);
+  printRow("RPE rot (deg)", e.rpe_rot_deg_stats);
+  std::printf("ATE rmse per axis (m): x %.6f  y %.6f  z %.6f\n", e.ate_axis_rmse.x(),
+              e.ate_axis_rmse.y(), e.ate_axis_rmse.z());
+}
+
+void printMapTable(const MapErrorStats& s, const EvalRequest& request) {
+  std::printf("map %s: %d points against %s\n", request.map_path.c_str(), s.points, request.scene_path.c_str());
+  std::printf("%-15s %11s %11s %11s %11s\n", "", "rmse", "median", "max", "within 1cm");
+  std::printf("%-15s %11.6f %11.6f %11.6f %11.6f\n", "map error (m)", s.rmse, s.median, s.max, s.within_1cm);
+}
+
+// The statistics and, in the map's point order, each point's error (metres).
+nlohmann::json mapJson(const MapEvaluation& e) {
+  nlohmann::json j = mapStatsToJson(e.stats);
+  j["errors"] = e.errors;
+  return j;
+}
+
+}  // namespace
+
+void addEvalCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "eval",
+      "trajectory error of an estimate against ground truth (ATE, RPE), as evo computes it; and/or "
+      "map error against a synthetic scene (distance of each map point to the nearest true surface)");
+  auto request = std::make_shared<EvalRequest>();
+  auto* groundtruth_option = cmd->add_option("--groundtruth", request->groundtruth_path,
+                  "ground truth trajectory: TUM, EuRoC (.csv) or KITTI");
+  auto* estimate_option = cmd->add_option("--estimate", request->estimate_path, "estimated trajectory: TUM, EuRoC or KITTI");
+  auto* map_option = cmd->add_option("--map", request->map_path, "map points to score (PLY, e.g. a run's map.ply)");
+  auto* scene_option = cmd->add_option("--scene", request->scene_path, "the true scene (a synthetic sequence's scene.yaml)");
+  groundtruth_option->needs(estimate_option);
+  estimate_option->needs(groundtruth_option);
+  map_option->needs(scene_option);
+  scene_option->needs(map_option);
+  cmd->add_option("--align", request->options.align,
+                  "Umeyama alignment of the estimate onto the ground truth: none (default), se3, "
+                  "sim3 (also reports the scale)");
+  cmd->add_option("--max-diff", request->options.max_diff,
+                  "largest time difference of an associated pose pair, seconds (default 0.01)");
+  cmd->add_option("--delta", request->options.delta, "RPE step in matched poses (default 1)");
+  cmd->add_flag("--json", request->json, "print one JSON object instead of a table");
+  cmd->callback([request] {
+    const bool has_map = !request->map_path.empty();
+    if (request->groundtruth_path.empty() && !has_map)
+      throw InputError("eval", "give --groundtruth and --estimate, or --map and --scene (or both pairs)");
+    std::optional<MapEvaluation> map_evaluation;
+    if (has_map) {
+      const std::vector<MapPoint> map = readMapPly(request->map_path);
+      map_evaluation = evaluateMap(map, readSceneYaml(request->scene_path));
+    }
+    if (request->groundtruth_path.empty()) {
+      if (request->json) {
+        std::cout << nlohmann::json{{"map", mapJson(*map_evaluation)}}.dump(1) << "\n";
+      } else {
+        printMapTable(map_evaluation->stats, *request);
+      }
+      return;
+    }
+    request->options.check();
+    const Trajectory groundtruth = readTrajectory(request->groundtruth_path);
+    const Trajectory estimate = readTrajectory(request->estimate_path);
+    TrajectoryEvaluation evaluation;
+    try {
+      evaluation = evaluateTrajectory(groundtruth, estimate, request->options);
+    } catch (const InputError& e) {  // name the two files the problem is about
+      throw InputError(request->estimate_path + " against " + request->groundtruth_path, e.what());
+    }
+    if (request->json) {
+      nlohmann::json j = evaluationToJson(evaluation, request->options);
+      if (map_evaluation) j["map"] = mapJson(*map_evaluation);
+      std::cout << j.dump(1) << "\n";
+    } else {
+      printTable(evaluation, *request);
+      if (map_evaluation) printMapTable(map_evaluation->stats, *request);
+    }
+  });
+}
+
+}  // namespace slamcmp

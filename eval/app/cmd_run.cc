@@ -1,0 +1,47 @@
+#include <iostream>
+#include <limits>
+
+#include "eval/app/commands.h"
+#include "eval/app/run_sequence.h"
+#include "eval/app/backends.h"
+
+namespace slamcmp {
+
+void addRunCommand(CLI::App& app) {
+  auto* cmd = app.add_subcommand("run", "run one back-end on one sequence; writes trajectory.txt, "
+                                        "frames.csv, summary.json and map.ply");
+  auto request = std::make_shared<RunRequest>();
+  cmd->add_option("--backend", request->backend, "back-end: " + backendNames())->required();
+  cmd->add_option("--sequence", request->sequence_path,
+                  "sequence folder (rgb.txt), image folder, video file or EuRoC folder")
+      ->required();
+  cmd->add_option("--out", request->out_dir, "output folder (default runs/<sequence>-<backend>)");
+  cmd->add_option("--config", request->config_path,
+                  "YAML options file, one section per back-end (" + backendNames(":, ") + ":)");
+  cmd->add_option("--set", request->sets,
+                  "override one option: SECTION.KEY=VALUE with the YAML's path, e.g. "
+                  "cslam.features.max_features=200 (repeatable)");
+  cmd->add_option("--camera", request->camera_path, "camera.yaml (overrides the sequence's)");
+  cmd->add_option("--target", request->target_path, "target.yaml (overrides the sequence's)");
+  cmd->add_option("--max-frames", request->max_frames, "stop after N frames")
+      ->check(CLI::Range(0, std::numeric_limits<int>::max()));
+  cmd->add_option("--mode", request->mode, "the back-end's mode (below; default its first)");
+  cmd->add_option("--init", request->init,
+                  "back-ends that take it (below): board (default) | groundtruth | manual:FILE (a TUM pose)");
+  cmd->add_option("--overlay", request->overlay_path,
+                  "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
+                  "a folder of PNGs, with overlay.csv listing the drawn positions");
+  cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");
+  cmd->footer(backendsHelp());
+  cmd->callback([request] {
+    installInterruptHandler();
+    const nlohmann::json summary = runSequence(*request);
+    std::cout << summary["backend"].get<std::string>() << ": " << summary["tracked"] << "/"
+              << summary["frames"] << " frames tracked, median "
+              << summary["ms_per_frame"]["median"].get<double>() << " ms/frame";
+    if (summary.contains("ate")) std::cout << ", ATE rmse " << summary["ate"]["trans"]["rmse"] << " m";
+    std::cout << "\n";
+  });
+}
+
+}  // namespace slamcmp

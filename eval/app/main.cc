@@ -1,0 +1,53 @@
+// slamcmp: runs monocular SLAM back-ends side by side and scores them.
+// Exit codes: 0 done, 2 bad usage or bad input (one line on stderr), 1 internal failure.
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/core/utils/logger.hpp>
+
+#include "core/error.h"
+#include "eval/app/commands.h"
+
+int main(int argc, char** argv) {
+  // OpenCV's own messages (e.g. from a broken image) must not interleave with ours.
+  cv::redirectError([](int, const char*, const char*, const char*, int, void*) { return 0; });
+  // Nor its logging, nor the video libraries' (a file that is not a video makes FFmpeg and
+  // GStreamer print several lines); the user's own settings of these variables win.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // AV_LOG_QUIET
+  setenv("OPENCV_VIDEOIO_PRIORITY_GSTREAMER", "0", 0);  // FFmpeg reads the files we read
+  CLI::App app{
+      "slamcmp: runs two monocular SLAM methods (cslam: calibration-integrated SLAM, monoslam: "
+      "MonoSLAM EKF) on the same image sequences and scores them against ground truth."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "slamcmp 0.1");
+  slamcmp::addSynthCommand(app);
+  slamcmp::addRunCommand(app);
+  slamcmp::addCompareCommand(app);
+  slamcmp::addReproduceCommand(app);
+  slamcmp::addEvalCommand(app);
+  slamcmp::addCalibrateCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
+    return 2;
+  } catch (const slamcmp::InputError& e) {
+    std::cerr << "slamcmp: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "slamcmp: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,155 @@
+#include "eval/app/run_sequence.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <iostream>
+#include <memory>
+
+#include "core/error.h"
+#include "core/frame_prefetcher.h"
+#include "core/map_ply.h"
+#include "core/progress.h"
+#include "core/run_recorder.h"
+#include "core/sequence.h"
+#include "core/trajectory.h"
+#include "eval/metrics/map_metrics.h"
+#include "eval/overlay/overlay_output.h"
+#include "eval/metrics/run_errors.h"
+#include "eval/app/backends.h"
+
+namespace slamcmp {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onInterrupt(int) { g_interrupted = true; }
+
+// TrackerContext.init from "board", "groundtruth" or "manual:FILE".
+void setInitialisation(const std::string& init, const Sequence& seq, TrackerContext* context) {
+  if (init == "board") {
+    context->init = InitSource::Board;
+  } else if (init == "groundtruth") {
+    if (!seq.groundtruth)
+      throw InputError("--init groundtruth", "sequence " + seq.path + " has no groundtruth.txt");
+    context->init = InitSource::GroundTruth;
+    context->T_world_camera_init = seq.groundtruth->front().T_world_camera;
+  } else if (init.rfind("manual:", 0) == 0) {
+    const std::string file = init.substr(7);
+    if (file.empty()) throw InputError("--init", "manual:FILE needs a file (a TUM pose line)");
+    context->init = InitSource::Manual;
+    context->T_world_camera_init = readTrajectory(file, TrajectoryFormat::Tum).front().T_world_camera;
+  } else {
+    throw InputError("--init", "must be board, groundtruth or manual:FILE, got '" + init + "'");
+  }
+}
+
+}  // namespace
+
+void installInterruptHandler() { std::signal(SIGINT, onInterrupt); }
+bool interrupted() { return g_interrupted; }
+
+std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
+                          const std::string& mode) {
+  return "runs/" + sequence_name + "-" + backend + (mode.empty() ? "" : "-" + mode);
+}
+
+nlohmann::json runSequence(const RunRequest& request) {
+  if (request.show) requireDisplay();
+  SequenceOpenOptions open_options;
+  open_options.camera_path = request.camera_path;
+  open_options.target_path = request.target_path;
+  open_options.allow_symmetric_target = true;  // warned about below; the back-ends keep its origin
+  Sequence seq = openSequence(request.sequence_path, open_options);
+  const bool board_symmetric = seq.target && seq.target->symmetric();
+  if (board_symmetric)
+    std::cerr << seq.target_path + ": the " + std::to_string(seq.target->cols) + "x" +
+                     std::to_string(seq.target->rows) +
+                     " board is symmetric (a 180 degree turn looks the same); its origin is chosen in the "
+                     "first frame that shows it and kept by continuity\n";
+  // A synthetic sequence's true surfaces, read before tracking so a bad file stops the run early.
+  std::optional<SceneGeometry> scene;
+  if (const std::string scene_path = sceneFileOf(seq.path); !scene_path.empty()) scene = readSceneYaml(scene_path);
+
+  const BackendRegistration& backend = findBackend(request.backend);
+  TrackerContext context;
+  context.camera = seq.camera;
+  context.target = seq.target;
+  context.mode = findMode(backend, request.mode).name;
+  context.image_size = seq.image_size;
+  if (backend.takes_init) {
+    setInitialisation(request.init.empty() ? "board" : request.init, seq, &context);
+  } else if (!request.init.empty()) {
+    throw InputError("--init", backend.name + " takes no --init (its world frame and start come from the board)");
+  }
+  context.want_overlay = !request.overlay_path.empty() || request.show;
+  const std::unique_ptr<BackendOptions> options = loadBackendOptions(backend, request.config_path, request.sets);
+  std::unique_ptr<Tracker> tracker = backend.make(context, *options);
+  // Created once the options and the back-end are known good: a bad --config leaves no video behind.
+  std::optional<OverlayOutput> overlay;
+  if (context.want_overlay) overlay.emplace(request.overlay_path, request.show, seq.image_size, seq.fps);
+
+  const std::string out_dir =
+      request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
+  RunRecorder recorder(out_dir, tracker->name());
+  const int total = request.max_frames >= 0 && seq.frames->size() >= 0
+                        ? std::min(request.max_frames, seq.frames->size())
+                        : seq.frames->size();
+  Progress progress(request.progress ? seq.name + " " + tracker->name() : "", request.progress ? total : 0);
+
+  FramePrefetcher frames(*seq.frames, request.max_frames);
+  DecodedFrame d;
+  int decoded_ok = 0;
+  bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
+  while (!interrupted() && !quit && frames.next(&d)) {
+    if (d.frame.grey.empty()) {
+      recorder.recordUndecodable(d.frame, d.decode_ms);
+      continue;
+    }
+    ++decoded_ok;
+    const auto start = std::chrono::steady_clock::now();
+    const FrameResult result = tracker->track(d.frame);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    recorder.record(d.frame, result, ms, d.decode_ms);
+    if (overlay && !overlay->add(d.frame, result)) quit = true;
+    if (request.progress) progress.update(recorder.frames(), toString(result.status));
+    if (request.on_frame) request.on_frame();
+  }
+  progress.finish();
+  recorder.flush();  // before finish() may throw: the files hold every frame recorded
+  if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
+  if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
+  if (!interrupted() && !quit) {
+    try {
+      tracker->finish();
+    } catch (const InputError& e) {  // the back-end cannot know the path: name it here
+      throw InputError(seq.path, e.what());
+    }
+  }
+
+  nlohmann::json extra;
+  extra["sequence"] = seq.path;
+  extra["mode"] = context.mode;
+  if (backend.takes_init) extra["init"] = request.init.empty() ? "board" : request.init;
+  extra["interrupted"] = interrupted() || quit;
+  if (board_symmetric) extra["board_symmetric"] = true;
+  extra["options"] = tracker->options();
+  if (seq.groundtruth && recorder.tracked() > 0) {
+    try {
+      const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
+      if (const auto errors = evaluateRun(*seq.groundtruth, estimate)) {
+        extra["ate"] = errors->json["ate"];
+        extra["rpe"] = errors->json["rpe"];
+      }
+    } catch (const InputError& e) {  // the run is fine; only its score is impossible
+      extra["metrics_error"] = e.what();
+    }
+  }
+  const std::vector<MapPoint> map = tracker->mapPoints();
+  writeMapPly(out_dir + "/map.ply", map);
+  if (scene) extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
+  return recorder.writeSummary(extra);
+}
+
+}  // namespace slamcmp

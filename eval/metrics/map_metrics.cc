@@ -1,0 +1,65 @@
+#include "eval/metrics/map_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "eval/metrics/scene_distance.h"
+
+namespace slamcmp {
+
+MapErrorStats mapErrorStats(std::vector<double> errors) {
+  MapErrorStats s;
+  s.points = static_cast<int>(errors.size());
+  if (errors.empty()) {
+    s.rmse = s.median = s.max = s.within_1cm = NAN;
+    return s;
+  }
+  std::sort(errors.begin(), errors.end());
+  const size_t n = errors.size();
+  double squares = 0;
+  int within = 0;
+  for (double e : errors) {
+    squares += e * e;
+    within += e <= kMapInlierDistance;
+  }
+  s.rmse = std::sqrt(squares / n);
+  s.median = n % 2 ? errors[n / 2] : 0.5 * (errors[n / 2 - 1] + errors[n / 2]);
+  s.max = errors.back();
+  s.within_1cm = static_cast<double>(within) / n;
+  return s;
+}
+
+MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry& scene) {
+  const std::vector<SceneSurface> surfaces = sceneSurfaces(scene);
+  MapEvaluation e;
+  std::vector<double> estimated;
+  for (const MapPoint& p : map) {
+    const NearestSurface nearest = nearestSurface(p.p_world, surfaces);
+    e.errors.push_back(nearest.distance);
+    e.nearest.push_back(nearest.index);
+    if (p.sigma != 0) estimated.push_back(nearest.distance);
+  }
+  e.stats = mapErrorStats(estimated);
+  e.stats.known = static_cast<int>(map.size() - estimated.size());
+  return e;
+}
+
+nlohmann::json mapStatsToJson(const MapErrorStats& s) {
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  return {{"points", s.points},
+          {"known", s.known},
+          {"rmse", number(s.rmse)},
+          {"median", number(s.median)},
+          {"max", number(s.max)},
+          {"within_1cm", number(s.within_1cm)}};
+}
+
+std::string sceneFileOf(const std::string& sequence_path) {
+  std::error_code ec;
+  const std::filesystem::path scene = std::filesystem::path(sequence_path) / "scene.yaml";
+  return std::filesystem::is_directory(sequence_path, ec) && std::filesystem::exists(scene, ec) ? scene.string()
+                                                                                                 : std::string();
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,20 @@
+#include "eval/metrics/run_errors.h"
+
+#include "eval/metrics/trajectory_metrics.h"
+
+namespace slamcmp {
+
+std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate) {
+  if (estimate.size() < 2) return std::nullopt;
+  const EvalOptions options;  // no alignment, 10 ms, delta 1
+  RunErrors r;
+  const TrajectoryEvaluation e = evaluateTrajectory(groundtruth, estimate, options);
+  r.ate_trans_rmse = e.ate_trans_stats.rmse;
+  r.ate_rot_rmse_deg = e.ate_rot_deg_stats.rmse;
+  r.rpe_trans_rmse = e.rpe_trans_stats.rmse;
+  r.rpe_rot_rmse_deg = e.rpe_rot_deg_stats.rmse;
+  r.json = evaluationToJson(e, options);
+  return r;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,136 @@
+#include "eval/metrics/trajectory_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+namespace {
+
+constexpr double kDegreesPerRadian = 180.0 / M_PI;
+
+double rmsOf(const std::vector<double>& x) {
+  double sum = 0.0;
+  for (double v : x) sum += v * v;
+  return std::sqrt(sum / static_cast<double>(x.size()));
+}
+
+Vec3 axisRms(const std::vector<Vec3>& v) {
+  Vec3 sum = Vec3::Zero();
+  for (const Vec3& x : v) sum += x.cwiseProduct(x);
+  return (sum / static_cast<double>(v.size())).cwiseSqrt();
+}
+
+nlohmann::json statisticsToJson(const ErrorStatistics& s) {
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median},
+          {"std", s.std},   {"min", s.min},   {"max", s.max}};
+}
+
+nlohmann::json axesToJson(const Vec3& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
+
+}  // namespace
+
+void EvalOptions::check() const {
+  if (align != "none" && align != "se3" && align != "sim3")
+    throw InputError("--align", "must be none, se3 or sim3, got '" + align + "'");
+  if (!(max_diff >= 0.0) || !std::isfinite(max_diff))
+    throw InputError("--max-diff", "must be a finite number of seconds >= 0");
+  if (delta < 1)
+    throw InputError("--delta", "must be at least 1 frame, got " + std::to_string(delta));
+}
+
+ErrorStatistics computeStatistics(const std::vector<double>& errors) {
+  ErrorStatistics s;
+  const double n = static_cast<double>(errors.size());
+  double sum = 0.0;
+  for (double e : errors) sum += e;
+  s.mean = sum / n;
+  double squared_deviation = 0.0;
+  for (double e : errors) squared_deviation += (e - s.mean) * (e - s.mean);
+  s.std = std::sqrt(squared_deviation / n);
+  s.rmse = rmsOf(errors);
+  std::vector<double> sorted = errors;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t mid = sorted.size() / 2;
+  s.median = sorted.size() % 2 ? sorted[mid] : 0.5 * (sorted[mid - 1] + sorted[mid]);
+  s.min = sorted.front();
+  s.max = sorted.back();
+  return s;
+}
+
+TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,
+                                        const EvalOptions& options) {
+  options.check();
+  TrajectoryEvaluation out;
+  out.align = options.align;
+  out.rpe_delta = options.delta;
+  out.pairs = associateByTime(groundtruth, estimate, options.max_diff);
+  const size_t n = out.pairs.size();
+
+  std::vector<SE3> T_world_gt(n), T_world_est(n);
+  for (size_t k = 0; k < n; ++k) {
+    T_world_gt[k] = groundtruth[out.pairs.groundtruth[k]].T_world_camera;
+    T_world_est[k] = estimate[out.pairs.estimate[k]].T_world_camera;
+  }
+
+  if (options.align != "none") {
+    std::vector<Vec3> p_est(n), p_gt(n);
+    for (size_t k = 0; k < n; ++k) {
+      p_est[k] = T_world_est[k].t();
+      p_gt[k] = T_world_gt[k].t();
+    }
+    out.T_gt_estimate = alignUmeyama(p_est, p_gt, options.align == "sim3");
+    // As evo's PosePath3D.align: scale the positions, then apply the rigid part to every pose.
+    for (SE3& T : T_world_est) T = SE3(out.T_gt_estimate.R * T.R(), out.T_gt_estimate * T.t());
+  }
+
+  out.ate_trans.resize(n);
+  out.ate_rot_deg.resize(n);
+  std::vector<Vec3> ate_offsets(n);
+  for (size_t k = 0; k < n; ++k) {
+    ate_offsets[k] = T_world_est[k].t() - T_world_gt[k].t();
+    out.ate_trans[k] = ate_offsets[k].norm();
+    out.ate_rot_deg[k] =
+        rotationAngle(T_world_gt[k].R().transpose() * T_world_est[k].R()) * kDegreesPerRadian;
+  }
+  out.ate_axis_rmse = axisRms(ate_offsets);
+  out.ate_trans_stats = computeStatistics(out.ate_trans);
+  out.ate_rot_deg_stats = computeStatistics(out.ate_rot_deg);
+
+  // evo's filter_pairs_by_index, consecutive pairs: ids 0, delta, 2 delta, ... < n.
+  const size_t delta = static_cast<size_t>(options.delta);
+  if (n <= delta)
+    throw InputError("--delta", "RPE needs more than " + std::to_string(delta) +
+                                    " matched poses, got " + std::to_string(n));
+  std::vector<Vec3> rpe_offsets;
+  for (size_t i = 0; i + delta < n; i += delta) {
+    const size_t j = i + delta;
+    const SE3 gt_motion = T_world_gt[i].inverse() * T_world_gt[j];
+    const SE3 est_motion = T_world_est[i].inverse() * T_world_est[j];
+    const SE3 E = gt_motion.inverse() * est_motion;
+    rpe_offsets.push_back(E.t());
+    out.rpe_trans.push_back(E.t().norm());
+    out.rpe_rot_deg.push_back(rotationAngle(E.R()) * kDegreesPerRadian);
+  }
+  out.rpe_axis_rmse = axisRms(rpe_offsets);
+  out.rpe_trans_stats = computeStatistics(out.rpe_trans);
+  out.rpe_rot_deg_stats = computeStatistics(out.rpe_rot_deg);
+  return out;
+}
+
+nlohmann::json evaluationToJson(const TrajectoryEvaluation& e, const EvalOptions& options) {
+  nlohmann::json ate = {{"trans", statisticsToJson(e.ate_trans_stats)},
+                        {"rot_deg", statisticsToJson(e.ate_rot_deg_stats)},
+                        {"trans_axis_rmse", axesToJson(e.ate_axis_rmse)}};
+  nlohmann::json rpe = {{"delta_frames", e.rpe_delta},
+                        {"pairs", e.rpe_trans.size()},
+                        {"trans", statisticsToJson(e.rpe_trans_stats)},
+                        {"rot_deg", statisticsToJson(e.rpe_rot_deg_stats)},
+                        {"trans_axis_rmse", axesToJson(e.rpe_axis_rmse)}};
+  return {{"matched", e.pairs.size()},    {"align", e.align}, {"scale", e.T_gt_estimate.scale},
+          {"max_diff", options.max_diff}, {"ate", ate},       {"rpe", rpe}};
+}
+
+}  // namespace slamcmp

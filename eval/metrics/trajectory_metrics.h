@@ -1,0 +1,64 @@
+#pragma once
+// Trajectory error against ground truth (SPEC section 4): association, Umeyama alignment, absolute
+// trajectory error (ATE) and relative pose error (RPE), with the statistics evo_ape / evo_rpe
+// print, computed as evo computes them so that the figures agree to 1e-6 relative.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/trajectory.h"
+#include "eval/metrics/align_umeyama.h"
+#include "eval/metrics/associate.h"
+
+namespace slamcmp {
+
+struct EvalOptions {
+  std::string align = "none";  // none | se3 | sim3: Umeyama alignment of estimate onto ground truth
+  double max_diff = 0.01;      // s, largest time difference of an associated pose pair
+  int delta = 1;               // RPE: frames (matched poses) between the two poses of a pair
+
+  template <class V>
+  void visit(V& v) {
+    v("align", align, "none | se3 | sim3: alignment of the estimate onto the ground truth");
+    v("max_diff", max_diff, "s, largest time difference of an associated pose pair");
+    v("delta", delta, "RPE step in matched poses");
+  }
+  void check() const;  // throws InputError naming the option
+};
+
+// numpy's statistics of a sample: population std (ddof 0), median the mean of the two middle
+// values for an even count.
+struct ErrorStatistics {
+  double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
+};
+ErrorStatistics computeStatistics(const std::vector<double>& errors);  // errors not empty
+
+struct TrajectoryEvaluation {
+  PosePairs pairs;            // matched poses, in the order of the error arrays below
+  std::string align;          // none | se3 | sim3
+  Similarity3 T_gt_estimate;  // the alignment applied (identity for none; scale 1 unless sim3)
+  // Per matched pose: |t_gt - t_est| (m) and the angle of R_gt^T R_est (degrees), after alignment.
+  std::vector<double> ate_trans, ate_rot_deg;
+  Vec3 ate_axis_rmse = Vec3::Zero();  // m, rms of t_est - t_gt along x, y, z
+  ErrorStatistics ate_trans_stats, ate_rot_deg_stats;
+  // Per pair (i, i + delta), i = 0, delta, 2 delta, ... over the matched poses: translation norm
+  // (m) and angle (degrees) of E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j).
+  int rpe_delta = 1;
+  std::vector<double> rpe_trans, rpe_rot_deg;
+  Vec3 rpe_axis_rmse = Vec3::Zero();  // m, rms of E's translation along x, y, z
+  ErrorStatistics rpe_trans_stats, rpe_rot_deg_stats;
+};
+
+// Associates, aligns and measures. Throws InputError when no pose pairs are found, when an
+// alignment has fewer than 3 pairs or degenerate positions, or when fewer than delta + 1 poses
+// are matched (no RPE pair).
+TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,
+                                        const EvalOptions& options);
+
+// SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, trans,
+// rot_deg}, each statistic block rmse, mean, median, std, min, max; plus max_diff,
+// ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
+nlohmann::json evaluationToJson(const TrajectoryEvaluation& evaluation, const EvalOptions& options);
+
+}  // namespace slamcmp

@@ -1,0 +1,69 @@
+#include "geometry/homography_pose.h"
+
+#include <cmath>
+
+#include <Eigen/SVD>
+
+#include "geometry/hartley_normalisation.h"
+
+namespace slamcmp {
+
+Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
+  const int n = static_cast<int>(src.size());
+  const Mat3 Ts = hartleyNormalisation(src), Td = hartleyNormalisation(dst);
+  Eigen::MatrixXd A(2 * n, 9);
+  for (int i = 0; i < n; ++i) {
+    const Vec3 s = Ts * src[i].homogeneous();
+    const Vec3 d = Td * dst[i].homogeneous();
+    // d x (H s) = 0: two independent rows per correspondence.
+    A.row(2 * i) << 0, 0, 0, -d.z() * s.transpose(), d.y() * s.transpose();
+    A.row(2 * i + 1) << d.z() * s.transpose(), 0, 0, 0, -d.x() * s.transpose();
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
+  const Eigen::VectorXd h = svd.matrixV().col(8);
+  Mat3 Hn;
+  Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
+  Mat3 H = Td.inverse() * Hn * Ts;
+  return H / H.norm();
+}
+
+std::vector<double> homographyErrors(const Mat3& H, const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
+  std::vector<double> e(src.size());
+  for (size_t i = 0; i < src.size(); ++i) e[i] = ((H * src[i].homogeneous()).hnormalized() - dst[i]).norm();
+  return e;
+}
+
+SE3 poseFromHomography(const Mat3& H, const Mat3& K) {
+  const Mat3 Kinv = K.inverse();
+  const Vec3 k1 = Kinv * H.col(0), k2 = Kinv * H.col(1), k3 = Kinv * H.col(2);
+  double lambda = 1.0 / k1.norm();  // thesis eq. 3.11
+  if (lambda * k3.z() < 0) lambda = -lambda;  // the board is in front of the camera
+  const Vec3 r1 = lambda * k1;                // eq. 3.12
+  const Vec3 r2 = lambda * k2;                // eq. 3.13
+  const Vec3 r3 = r1.cross(r2);               // eq. 3.14
+  const Vec3 t = lambda * k3;                 // eq. 3.15
+  Mat3 Q;
+  Q << r1, r2, r3;
+  return SE3(nearestRotation(Q), t);          // eqs. 3.16, 3.17
+}
+
+BoardPose boardPose(const std::vector<Vec3>& p_board, const std::vector<Vec2>& xy_normalised,
+                    double focal_px, const BoardPoseOptions& options) {
+  std::vector<Vec2> plane(p_board.size());
+  for (size_t i = 0; i < p_board.size(); ++i) plane[i] = p_board[i].head<2>();
+  BoardPose pose;
+  pose.T_camera_board = poseFromHomography(homographyDlt(plane, xy_normalised), Mat3::Identity());
+  if (options.refine) {
+    const PoseRefinementResult r =
+        refinePose(pose.T_camera_board, p_board, xy_normalised, focal_px, options.refinement);
+    pose.T_camera_board = r.T_camera_world;
+    pose.rms_px = r.rms_px;
+  } else {
+    double sum = 0;
+    for (double e : reprojectionErrorsPx(pose.T_camera_board, p_board, xy_normalised, focal_px)) sum += e * e;
+    pose.rms_px = std::sqrt(sum / static_cast<double>(p_board.size()));
+  }
+  return pose;
+}
+
+}  // namespace slamcmp

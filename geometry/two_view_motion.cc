@@ -1,0 +1,170 @@
+#include "geometry/two_view_motion.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "geometry/essential_eight_point.h"
+
+namespace slamcmp {
+
+void TwoViewOptions::check() const {
+  if (min_inliers < 8) throw OptionError("min_inliers", "must be >= 8");
+  if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1)) throw OptionError("min_inlier_ratio", "must be in [0, 1]");
+  if (refine_iterations < 0) throw OptionError("refine_iterations", "must be >= 0");
+  if (min_parallax_px < 0) throw OptionError("min_parallax_px", "must be >= 0");
+}
+
+namespace {
+
+struct EssentialEstimator {
+  using Model = Mat3;
+  static constexpr int kMinSamples = 8;
+  const std::vector<Vec2>& xy_a;
+  const std::vector<Vec2>& xy_b;
+  double focal2;  // focal_px^2: Sampson distances in pixels^2
+
+  int numData() const { return static_cast<int>(xy_a.size()); }
+  std::vector<Model> estimate(const std::vector<int>& sample) const {
+    std::vector<Vec2> a, b;
+    for (int i : sample) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
+    return {essentialEightPoint(a, b)};
+  }
+  double squaredError(const Model& E, int i) const { return focal2 * sampsonErrorSquared(E, xy_a[i], xy_b[i]); }
+};
+
+double signedSampson(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
+  const Vec3 a = xy_a.homogeneous(), b = xy_b.homogeneous();
+  const Vec3 Ea = E * a, Etb = E.transpose() * b;
+  const double d = Ea.x() * Ea.x() + Ea.y() * Ea.y() + Etb.x() * Etb.x() + Etb.y() * Etb.y();
+  return d > 0 ? b.dot(Ea) / std::sqrt(d) : 0.0;
+}
+
+// Levenberg-Marquardt on the Sampson distances of the inliers over the 5 degrees of freedom of
+// the motion (rotation, and the translation direction on the unit sphere); numeric Jacobian.
+SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int iterations) {
+  using Vec5 = Eigen::Matrix<double, 5, 1>;
+  const int n = static_cast<int>(a.size());
+  auto apply = [](const SE3& T, const Vec5& d) {
+    // Tangent basis of the sphere at t.
+    const Vec3 t = T.t().normalized();
+    Vec3 e1 = t.cross(std::abs(t.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).normalized();
+    const Vec3 e2 = t.cross(e1);
+    return SE3(rotationFromRotvec(d.head<3>()) * T.R(), (t + d(3) * e1 + d(4) * e2).normalized());
+  };
+  auto residuals = [&](const SE3& T) {
+    const Mat3 E = skew(T.t()) * T.R();
+    Eigen::VectorXd r(n);
+    for (int i = 0; i < n; ++i) r(i) = signedSampson(E, a[i], b[i]);
+    return r;
+  };
+  SE3 T = T_b_a;
+  Eigen::VectorXd r = residuals(T);
+  double lambda = 1e-3;
+  for (int it = 0; it < iterations; ++it) {
+    Eigen::MatrixXd J(n, 5);
+    for (int k = 0; k < 5; ++k) {
+      Vec5 d = Vec5::Zero();
+      d(k) = 1e-7;
+      J.col(k) = (residuals(apply(T, d)) - r) / 1e-7;
+    }
+    Eigen::Matrix<double, 5, 5> H = J.transpose() * J;
+    const Vec5 g = J.transpose() * r;
+    bool improved = false;
+    for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
+      Eigen::Matrix<double, 5, 5> A = H;
+      A.diagonal() *= 1 + lambda;
+      const Vec5 d = A.ldlt().solve(-g);
+      const SE3 candidate = apply(T, d);
+      const Eigen::VectorXd rc = residuals(candidate);
+      if (rc.squaredNorm() < r.squaredNorm()) {
+        improved = true;
+        T = candidate;
+        r = rc;
+        lambda *= 0.1;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+  return T;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
+                                    double focal_px, const TwoViewOptions& options) {
+  TwoViewResult out;
+  const int n = static_cast<int>(xy_a.size());
+  if (n < options.min_inliers) {
+    out.reason = "too few correspondences for two-view motion (" + std::to_string(n) + ")";
+    return out;
+  }
+  const EssentialEstimator estimator{xy_a, xy_b, focal_px * focal_px};
+  const auto r = ransac(estimator, options.ransac);
+  if (!r.success) {
+    out.reason = "two-view RANSAC found no model";
+    return out;
+  }
+  // Refinement: the 8-point solution on all inliers, then the inliers of that.
+  std::vector<Vec2> a, b;
+  for (int i = 0; i < n; ++i)
+    if (r.inliers[i]) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
+  const double t2 = options.ransac.max_error * options.ransac.max_error;
+  Mat3 E = r.model;
+  if (a.size() >= 8) {
+    const Mat3 refined = essentialEightPoint(a, b);
+    int count = 0;
+    for (int i = 0; i < n; ++i) count += estimator.squaredError(refined, i) < t2;
+    if (count >= r.num_inliers) E = refined;
+  }
+  // Inliers of E, the (R, t) in front, Levenberg-Marquardt on those inliers; then once more on
+  // the inliers of the refined motion.
+  auto collectInliers = [&](const Mat3& model) {
+    out.inliers.assign(n, 0);
+    a.clear();
+    b.clear();
+    for (int i = 0; i < n; ++i)
+      if (estimator.squaredError(model, i) < t2) out.inliers[i] = 1, a.push_back(xy_a[i]), b.push_back(xy_b[i]);
+    out.num_inliers = static_cast<int>(a.size());
+    return out.num_inliers >= options.min_inliers && out.num_inliers >= options.min_inlier_ratio * n;
+  };
+  int in_front = 0;
+  if (collectInliers(E)) {
+    out.T_b_a = refineMotion(selectByCheirality(E, a, b, &in_front), a, b, options.refine_iterations);
+    if (collectInliers(skew(out.T_b_a.t()) * out.T_b_a.R())) {
+      out.T_b_a = refineMotion(out.T_b_a, a, b, options.refine_iterations);
+      in_front = countInFront(out.T_b_a, a, b);
+    }
+  }
+  if (out.num_inliers < options.min_inliers || out.num_inliers < options.min_inlier_ratio * n) {
+    out.reason = "too few two-view inliers (" + std::to_string(out.num_inliers) + " of " + std::to_string(n) + ")";
+    return out;
+  }
+  // Parallax once the rotation is removed: what the translation alone moved the features.
+  std::vector<double> parallax;
+  parallax.reserve(a.size());
+  for (size_t i = 0; i < a.size(); ++i)
+    parallax.push_back(focal_px * ((out.T_b_a.R() * a[i].homogeneous()).hnormalized() - b[i]).norm());
+  out.parallax_px = median(parallax);
+  if (out.parallax_px < options.min_parallax_px) {
+    out.degenerate = true;
+    out.reason = "degenerate two-view motion (parallax " + std::to_string(out.parallax_px) + " px: tiny baseline or pure rotation)";
+    return out;
+  }
+  if (in_front < 0.9 * out.num_inliers) {
+    out.reason = "two-view cheirality ambiguous (" + std::to_string(in_front) + " of " + std::to_string(out.num_inliers) + " in front)";
+    return out;
+  }
+  out.ok = true;
+  return out;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,48 @@
+#pragma once
+// Relative camera motion from two views (thesis section 3.3): the 8-point essential matrix inside
+// RANSAC, refined on its inliers, the (R, t) in front of both cameras, and a degeneracy check.
+#include <string>
+#include <vector>
+
+#include "core/geometry.h"
+#include "geometry/ransac.h"
+
+namespace slamcmp {
+
+struct TwoViewOptions {
+  RansacOptions ransac;            // max_error: Sampson distance, pixels
+  int min_inliers = 20;            // fewer: no motion
+  double min_inlier_ratio = 0.5;   // fewer: no motion
+  // Degeneracy: the median parallax left after removing the rotation (tiny baseline or pure
+  // rotation: the translation direction is then noise).
+  double min_parallax_px = 2.0;
+  int refine_iterations = 5;       // Levenberg-Marquardt on the inliers' Sampson distances
+  template <class V>
+  void visit(V& v) {
+    v("ransac", ransac, "RANSAC over the 8-point solver; max_error is a Sampson distance in pixels");
+    v("min_inliers", min_inliers, "fewer inliers: no two-view motion");
+    v("min_inlier_ratio", min_inlier_ratio, "smaller inlier fraction: no two-view motion");
+    v("refine_iterations", refine_iterations,
+      "Levenberg-Marquardt iterations on the inliers' Sampson distances (0: the 8-point solution)");
+    v("min_parallax_px", min_parallax_px,
+      "median rotation-compensated parallax in pixels under which the motion is degenerate");
+  }
+  void check() const;
+};
+
+struct TwoViewResult {
+  bool ok = false;
+  std::string reason;        // why not ok
+  bool degenerate = false;   // inliers found but too little parallax: T_b_a's rotation stands, its translation is noise
+  SE3 T_b_a;                 // p_b = R p_a + t, |t| = 1 (the scale is unknown)
+  std::vector<char> inliers;
+  int num_inliers = 0;
+  double parallax_px = 0;    // median rotation-compensated parallax of the inliers
+};
+
+// xy_a[i] and xy_b[i]: undistorted normalised coordinates of one feature in views a and b.
+// focal_px converts normalised distances to pixels for the thresholds.
+TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
+                                    double focal_px, const TwoViewOptions& options);
+
+}  // namespace slamcmp

@@ -1,0 +1,111 @@
+#include "ekf/ekf_update.h"
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "tests/ekf/plane_render.h"
+
+namespace slamcmp {
+namespace {
+
+EkfState uncertainState() {
+  EkfState s;
+  Eigen::Matrix<double, 13, 13> P = Eigen::Matrix<double, 13, 13>::Identity() * 1e-4;
+  s.reset(SE3::fromRotvec(Vec3(0.05, -0.1, 0.02), Vec3(0.1, 0.1, -1.0)), P);
+  s.append(Vec3(0.2, 0.1, 0.0), Mat3::Identity() * 1e-3, Eigen::MatrixXd::Zero(3, 13));
+  s.append(Vec3(-0.1, 0.3, 0.1), Mat3::Identity() * 2e-3, Eigen::MatrixXd::Zero(3, 16));
+  return s;
+}
+
+PointObservation observe(const EkfState& s, const CameraModel& camera, int offset, const Vec2& offset_px) {
+  PointObservation o;
+  o.offset = offset;
+  predictMeasurement(camera, s.r(), s.q(), s.x().segment<3>(offset), &o.h);
+  o.z = o.h.uv_distorted + offset_px;
+  return o;
+}
+
+// With the Jacobians held fixed, one batch update equals two sequential updates, the second
+// innovation taken against the first update's linearised prediction.
+TEST(EkfUpdate, BatchEqualsSequentialForAFixedLinearisation) {
+  const CameraModel camera = test::testCamera();
+  const EkfState prior = uncertainState();
+  const PointObservation a = observe(prior, camera, 13, Vec2(2.0, -1.0));
+  const PointObservation b = observe(prior, camera, 16, Vec2(-1.5, 0.5));
+
+  EkfState batch = prior;
+  batchUpdate(batch, {a, b}, 1.0);
+
+  EkfState sequential = prior;
+  batchUpdate(sequential, {a}, 1.0);
+  PointObservation b2 = b;
+  // Linearised prediction of b at the updated state (q renormalisation is second order here).
+  const Eigen::VectorXd dx = sequential.x() - prior.x();
+  b2.h.uv_distorted += b.h.H_r * dx.segment<3>(EkfState::kR) + b.h.H_q * dx.segment<4>(EkfState::kQ) +
+                       b.h.H_y * dx.segment<3>(16);
+  batchUpdate(sequential, {b2}, 1.0);
+  EXPECT_LT((batch.x() - sequential.x()).norm(), 1e-6);
+  EXPECT_LT((batch.P() - sequential.P()).norm(), 1e-7);
+}
+
+// The block-wise S (one point, or several jointly) and the rank update equal the textbook dense
+// formulas with the full H (2m x n): S = H P H^T + R, K = P H^T S^-1, P - K S K^T.
+TEST(EkfUpdate, BlockwiseFormulasEqualTheDenseOnes) {
+  const CameraModel camera = test::testCamera();
+  EkfState prior = uncertainState();
+  // Dense correlations between everything, as after some frames of tracking.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(prior.size(), prior.size()) * 0.01;
+  prior.P() += A * A.transpose();
+  const std::vector<PointObservation> obs = {observe(prior, camera, 13, Vec2(1.0, -0.5)),
+                                             observe(prior, camera, 16, Vec2(-0.5, 2.0))};
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(4, prior.size());
+  Eigen::VectorXd nu(4);
+  for (int k = 0; k < 2; ++k) {
+    H.block<2, 3>(2 * k, EkfState::kR) = obs[k].h.H_r;
+    H.block<2, 4>(2 * k, EkfState::kQ) = obs[k].h.H_q;
+    H.block<2, 3>(2 * k, obs[k].offset) = obs[k].h.H_y;
+    nu.segment<2>(2 * k) = obs[k].z - obs[k].h.uv_distorted;
+  }
+  const double sigma = 1.5;
+  const Eigen::MatrixXd S = H * prior.P() * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(4, 4);
+  EXPECT_LT((innovationCovariance(prior, obs, sigma) - S).norm(), 1e-9 * S.norm());
+  EXPECT_LT((pointInnovationCovariance(prior, obs[1].h, 16, sigma) - S.block<2, 2>(2, 2)).norm(), 1e-9 * S.norm());
+
+  const Eigen::MatrixXd K = prior.P() * H.transpose() * S.inverse();
+  EkfState expected = prior;
+  expected.x() += K * nu;
+  expected.P() -= K * S * K.transpose();
+  expected.renormaliseQuaternion();
+  EkfState s = prior;
+  batchUpdate(s, obs, sigma);
+  EXPECT_LT((s.x() - expected.x()).norm(), 1e-12);
+  EXPECT_LT((s.P() - expected.P()).norm(), 1e-10 * prior.P().norm());
+}
+
+TEST(EkfUpdate, UpdateShrinksUncertaintyAndKeepsSymmetry) {
+  const CameraModel camera = test::testCamera();
+  EkfState s = uncertainState();
+  const Eigen::MatrixXd S = innovationCovariance(s, {observe(s, camera, 13, Vec2::Zero())}, 1.0);
+  const double trace_before = s.P().trace();
+  batchUpdate(s, {observe(s, camera, 13, Vec2(1, 1)), observe(s, camera, 16, Vec2(0, 0))}, 1.0);
+  EXPECT_LT(s.P().trace(), trace_before);
+  EXPECT_LT((s.P() - s.P().transpose()).norm(), 1e-15);
+  EXPECT_NEAR(s.q().norm(), 1.0, 1e-15);
+  EXPECT_GT(S(0, 0), 1.0);  // pixel noise plus the state's share
+}
+
+// A covariance broken by round-off (negative variance of a point) gives an S that is not positive
+// definite: the update refuses rather than writing NaNs into the state.
+TEST(EkfUpdate, RefusesAnInnovationCovarianceThatIsNotPositiveDefinite) {
+  const CameraModel camera = test::testCamera();
+  EkfState s = uncertainState();
+  s.P().block<3, 3>(13, 13) = -Mat3::Identity();
+  const EkfState before = s;
+  EXPECT_FALSE(batchUpdate(s, {observe(s, camera, 13, Vec2(1, 1))}, 1e-3));
+  EXPECT_EQ(s.x(), before.x());
+  EXPECT_EQ(s.P(), before.P());
+  EXPECT_TRUE(batchUpdate(s, {observe(s, camera, 16, Vec2(1, 1))}, 1.0));  // the other point is fine
+}
+
+}  // namespace
+}  // namespace slamcmp
