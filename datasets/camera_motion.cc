@@ -50,7 +50,7 @@ Vec3 roundedRectangle(double s, double half_x, double near_z, double far_z, doub
 
 }  // namespace
 
-CameraModel syntheticCamera() {
+CameraModel syntheticCamera(const std::string& preset) {
   CameraModel c;
   c.width = 640;
   c.height = 480;
@@ -59,6 +59,7 @@ CameraModel syntheticCamera() {
   c.cy = 239.5;
   c.num_distortion = 5;
   c.distortion = {-0.1, 0.02, 0.0003, -0.0002, 0.0, 0.0, 0.0, 0.0};
+  if (preset == "roll_distortion") c.distortion = {-0.32, 0.11, 0.0004, -0.0003, -0.015, 0.0, 0.0, 0.0};
   return c;
 }
 
@@ -70,6 +71,12 @@ const std::vector<MotionPreset>& motionPresets() {
       {"tv4", 402, "a rectangle in the XZ plane, 0.3 m wide, 0.65 to 1.05 m from the board"},
       {"board_leaves", 300,
        "pans 55 degrees away from the board and back: no board corner in view for about 6 s"},
+      {"wall_turn", 300,
+       "turns 90 degrees to the right-hand wall and moves along it, 12 s without the board, then turns back"},
+      {"board_partial", 240,
+       "sweeps sideways facing the wall: at each end of the sweep up to half the board leaves the image"},
+      {"roll_distortion", 200,
+       "rolls up to 110 degrees each way, the board always in view, through a strongly distorting lens"},
   };
   return presets;
 }
@@ -130,6 +137,30 @@ SE3 CameraMotion::nominal(double t) const {
     Vec3 offset = roundedRectangle(perimeter * t / period, 0.15, -0.65, -1.05, 0.06);
     offset.y() = 0.015 * std::sin(kTwoPi * t / 13.0);
     return lookAt(c + offset, c + Vec3(0.4 * offset.x(), 0, 0));
+  }
+  if (preset_ == "wall_turn") {
+    // A 30 s cycle: the board 6 s, a 3 s turn of 90 degrees to the right-hand wall (x = 2 m), 9 s
+    // along it (0.25 m to the right and back), a 3 s turn back, the board 9 s.
+    const double s = t - 30.0 * std::floor(t / 30.0);
+    const double turned = smoothstep((s - 6.0) / 3.0) - smoothstep((s - 18.0) / 3.0);
+    const double along = 0.25 * std::sin(M_PI * std::clamp((s - 8.0) / 11.0, 0.0, 1.0));
+    const Vec3 p = c + Vec3(0.04 * std::sin(kTwoPi * t / 12.0) + along, 0.02 * std::sin(kTwoPi * t / 9.0),
+                            -0.85 + 0.03 * std::sin(kTwoPi * t / 7.0));
+    const Mat3 turn = rotationFromRotvec(Vec3(0, 0.5 * M_PI * turned, 0));
+    return lookAt(p, p + turn * (c + Vec3(0.03 * std::sin(kTwoPi * t / 12.0), 0, 0) - p));
+  }
+  if (preset_ == "board_partial") {
+    // Facing the wall square on at 0.7 m, 0.38 m each side of the board's centre (12 s a sweep):
+    // at the ends the board's outer columns leave the image.
+    const double phi = kTwoPi * t / 12.0;
+    const Vec3 p = c + Vec3(0.38 * std::sin(phi), 0.05 * std::sin(0.5 * phi + 0.7), -0.70 + 0.03 * std::sin(1.3 * phi));
+    return lookAt(p, p + Vec3(0.04 * std::sin(phi), 0.0, 1.0));
+  }
+  if (preset_ == "roll_distortion") {
+    // Roll of 110 degrees each way (16 s a cycle), small lateral and depth motion, the board in view.
+    const double phi = kTwoPi * t / 16.0;
+    const Vec3 p = c + Vec3(0.06 * std::sin(0.7 * phi), 0.04 * std::sin(1.1 * phi + 0.3), -0.72 + 0.05 * std::sin(0.5 * phi));
+    return lookAt(p, c, 110.0 * M_PI / 180.0 * std::sin(phi));
   }
   // board_leaves, a 30 s cycle: the board in view, a 4 s pan (and step right) away from it, 4 s
   // away, 4 s back, the board in view again.

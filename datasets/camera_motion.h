@@ -1,6 +1,8 @@
 #pragma once
 // The synthetic camera and the motions of the presets (SPEC section 7): tv1 along X, tv2 along Y,
-// tv3 along Z, tv4 a rectangle in the XZ plane, board_leaves a pan away from the board and back;
+// tv3 along Z, tv4 a rectangle in the XZ plane, board_leaves a pan away from the board and back,
+// wall_turn a turn to another wall for 12 s, board_partial a sweep that takes up to half the board
+// out of the image, roll_distortion up to 110 degrees of roll through a strongly distorting lens;
 // all with smooth handheld jitter.
 #include <cstdint>
 #include <string>
@@ -13,8 +15,9 @@ namespace slamcmp {
 
 constexpr double kSyntheticFps = 10.0;  // frames per second of every preset
 
-// 640x480, fx = fy = 525, mild barrel distortion (5 coefficients).
-CameraModel syntheticCamera();
+// 640x480, fx = fy = 525, mild barrel distortion (5 coefficients); the preset roll_distortion's
+// lens has strong barrel distortion instead (k1 = -0.32: a corner of the image 14 % inwards).
+CameraModel syntheticCamera(const std::string& preset = "");
 
 struct MotionPreset {
   std::string name;

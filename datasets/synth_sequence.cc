@@ -54,7 +54,7 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   if (ec || !fs::is_directory(out / "rgb"))
     throw InputError(out_dir, "cannot create the output folder: " + ec.message());
 
-  const CameraModel camera = syntheticCamera();
+  const CameraModel camera = syntheticCamera(options.preset);
   const Scene scene = buildRoomScene(static_cast<std::uint64_t>(options.seed));
   const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
   writeCameraYaml((out / "camera.yaml").string(), camera);
