@@ -2,15 +2,12 @@
 // The MonoSLAM EKF back-end (thesis chapter 2, SPEC section 5) behind the Tracker interface.
 #include <memory>
 #include <optional>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "core/backend_registry.h"
 #include "core/tracker.h"
-#include "ekf/ekf_state.h"
-#include "ekf/frame_measurement.h"
-#include "ekf/map_feature.h"
+#include "ekf/ekf_slam.h"
 #include "monoslam_ekf/monoslam_options.h"
 
 namespace slamcmp {
@@ -30,10 +27,7 @@ class MonoslamTracker : public Tracker {
 
  private:
   bool start(const Frame& frame, std::string* reason);
-  void updateRays(const Frame& frame);
-  void manageMap(const Frame& frame);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
-  void removeFeature(size_t index);
 
   CameraModel camera_;
   ChessboardTarget target_;
@@ -42,8 +36,7 @@ class MonoslamTracker : public Tracker {
   bool want_overlay_ = false;
   std::optional<SE3> T_world_camera_init_;
 
-  EkfState state_;
-  std::vector<MapFeature> features_;
+  EkfSlam slam_;
   bool running_ = false;
   bool ever_started_ = false;
   std::string lost_reason_;
@@ -52,8 +45,6 @@ class MonoslamTracker : public Tracker {
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
   int visible_ = 0;  // map points predicted in the image this frame
-  int next_id_ = 0;
-  std::mt19937 rng_{0};
 };
 
 // The back-end's registration (core/backend_registry.h): one mode, "ekf".

@@ -1,0 +1,195 @@
+#include "ekf/ekf_slam.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/image.h"
+#include "ekf/corner_selection.h"
+#include "ekf/ekf_overlay.h"
+#include "ekf/measurement_model.h"
+#include "ekf/motion_model.h"
+
+namespace slamcmp {
+
+namespace {
+
+std::string fixed(double value, int digits) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << value;
+  return out.str();
+}
+
+Mat3 rotationOf(const Vec4& q) { return Quat(q(0), q(1), q(2), q(3)).normalized().toRotationMatrix(); }
+
+}  // namespace
+
+EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options) : camera_(camera), options_(options) {}
+
+void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
+  state_.reset(T_world_camera, P_camera);
+  features_.clear();
+}
+
+bool EkfSlam::addKnownPoint(const cv::Mat& grey, const Vec2& uv, const Vec3& p_world, const Vec3& normal_world) {
+  MapFeature f;
+  if (!makePatchSource(grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source)) return false;
+  f.source.normal_world = normal_world;
+  f.id = next_id_++;
+  f.known = true;
+  f.offset = state_.append(p_world, Mat3::Zero(), Eigen::MatrixXd::Zero(3, state_.size()));
+  features_.push_back(std::move(f));
+  return true;
+}
+
+void EkfSlam::predict(double dt) {
+  slamcmp::predict(state_, dt > 0 ? dt : options_.motion.default_dt, options_.motion);
+}
+
+FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
+  return measureFeatures(state_, features_, camera_, grey, options_.search);
+}
+
+void EkfSlam::updateMap(const cv::Mat& grey, int visible) {
+  updateRays(grey);
+  pruneAndGrow(grey, visible);
+}
+
+void EkfSlam::removeFeature(size_t index) {
+  const int offset = features_[index].offset;
+  const int dim = features_[index].is_ray ? 6 : 3;
+  state_.remove(offset, dim);
+  for (MapFeature& f : features_)
+    if (f.offset > offset) f.offset -= dim;
+  features_.erase(features_.begin() + static_cast<long>(index));
+}
+
+void EkfSlam::updateRays(const cv::Mat& grey) {
+  const FeatureInitOptions& fo = options_.feature_init;
+  for (size_t i = 0; i < features_.size();) {
+    MapFeature& f = features_[i];
+    if (!f.is_ray) {
+      ++i;
+      continue;
+    }
+    ++f.ray_frames;
+    updateDepthParticles(state_, f.offset, camera_, grey, f.ray_template, options_.search, fo.prune_threshold,
+                         &f.particles);
+    const double mean = f.particles.mean(), stddev = f.particles.stddev();
+    if (f.particles.size() >= 1 && stddev < fo.promote_ratio * mean) {
+      // Particles are spaced (max - min)/(n - 1) apart: add that quantisation to the variance.
+      const double spacing = (fo.max_depth - fo.min_depth) / (fo.particles - 1);
+      const int ray_offset = f.offset;
+      const int point_offset = promoteRay(state_, ray_offset, mean, stddev * stddev + spacing * spacing / 12);
+      for (MapFeature& g : features_)
+        if (g.offset > ray_offset) g.offset -= 6;
+      f.offset = point_offset;
+      f.is_ray = false;
+      f.particles = DepthParticles();
+      ++i;
+    } else if (f.particles.size() < fo.min_particles || f.ray_frames > fo.max_frames) {
+      removeFeature(i);
+    } else {
+      ++i;
+    }
+  }
+}
+
+void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible) {
+  const MapManagementOptions& mo = options_.map;
+  for (size_t i = 0; i < features_.size();) {
+    const MapFeature& f = features_[i];
+    if (!f.is_ray && f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts)
+      removeFeature(i);
+    else
+      ++i;
+  }
+
+  const FeatureInitOptions& fo = options_.feature_init;
+  const int rays = static_cast<int>(
+      std::count_if(features_.begin(), features_.end(), [](const MapFeature& f) { return f.is_ray; }));
+  if (visible >= fo.min_visible || rays >= fo.max_initialising || static_cast<int>(features_.size()) >= mo.max_features)
+    return;
+  std::vector<Vec2> occupied;
+  for (const MapFeature& f : features_) {
+    const Vec3 y = f.is_ray ? Vec3(state_.x().segment<3>(f.offset) +
+                                   f.particles.mean() * state_.x().segment<3>(f.offset + 3))
+                            : Vec3(state_.x().segment<3>(f.offset));
+    PointMeasurement m;
+    if (predictMeasurement(camera_, state_.r(), state_.q(), y, &m)) occupied.push_back(m.uv_distorted);
+  }
+  Vec2 uv;
+  const int margin = options_.search.source_size / 2 + 1;
+  if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv)) return;
+  MapFeature f;
+  if (!makePatchSource(grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||
+      !sourceTemplate(f.source, options_.search.patch_size, &f.ray_template) ||
+      patchStdDev(f.ray_template) < options_.search.min_patch_stddev)
+    return;
+  f.id = next_id_++;
+  f.is_ray = true;
+  f.offset = appendRay(state_, camera_, uv, options_.search.pixel_sigma);
+  f.particles = uniformParticles(fo.particles, fo.min_depth, fo.max_depth);
+  features_.push_back(std::move(f));
+}
+
+std::string EkfSlam::divergence() const {
+  const HealthOptions& ho = options_.health;
+  if (!state_.x().allFinite() || !state_.P().allFinite()) return "diverged: state or covariance not finite";
+  if ((state_.P().diagonal().array() < -1e-9).any()) return "diverged: negative variance";
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 13, 13>> camera_eig(state_.P().topLeftCorner<13, 13>(),
+                                                                                Eigen::EigenvaluesOnly);
+  if (camera_eig.eigenvalues()(0) < -1e-9 * std::max(1.0, camera_eig.eigenvalues()(12)))
+    return "diverged: camera covariance not positive semi-definite";
+  const double position_sigma = std::sqrt(
+      Eigen::SelfAdjointEigenSolver<Mat3>(state_.P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly).eigenvalues()(2));
+  if (position_sigma > ho.max_position_sigma) return "diverged: camera position std " + fixed(position_sigma, 2) + " m";
+  if (state_.v().norm() > ho.max_speed) return "diverged: speed " + fixed(state_.v().norm(), 1) + " m/s";
+  if (state_.w().norm() > ho.max_angular_speed)
+    return "diverged: angular speed " + fixed(state_.w().norm(), 1) + " rad/s";
+  return "";
+}
+
+PoseCovariance EkfSlam::poseCovariance() const {
+  // e = log(R(q') R(q)^T) for q' near q: its 3x4 Jacobian by central differences (the quaternion
+  // is normalised inside R, so the direction along q itself maps to zero, as it should).
+  const Vec4 q = state_.q();
+  const Mat3 R_t = rotationOf(q).transpose();
+  Eigen::Matrix<double, 3, 4> J;
+  const double h = 1e-6;
+  for (int i = 0; i < 4; ++i) {
+    Vec4 dq = Vec4::Zero();
+    dq(i) = h;
+    J.col(i) = (rotvecFromRotation(rotationOf(q + dq) * R_t) - rotvecFromRotation(rotationOf(q - dq) * R_t)) / (2 * h);
+  }
+  Eigen::Matrix<double, 6, 7> G = Eigen::Matrix<double, 6, 7>::Zero();
+  G.topLeftCorner<3, 3>().setIdentity();
+  G.bottomRightCorner<3, 4>() = J;
+  const PoseCovariance P = G * state_.P().topLeftCorner<7, 7>() * G.transpose();
+  return 0.5 * (P + P.transpose());
+}
+
+std::vector<MapPoint> EkfSlam::mapPoints() const {
+  std::vector<MapPoint> points;
+  for (const MapFeature& f : features_) {
+    if (f.is_ray) continue;
+    MapPoint p;
+    p.id = f.id;
+    p.p_world = state_.x().segment<3>(f.offset);
+    p.observations = f.successes;
+    // The ellipsoid's largest semi-axis: sqrt of the largest eigenvalue of the point's covariance.
+    const Mat3 P_y = state_.P().block<3, 3>(f.offset, f.offset);
+    p.sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3>(P_y, Eigen::EigenvaluesOnly).eigenvalues()(2)));
+    points.push_back(p);
+  }
+  return points;
+}
+
+FrameOverlay EkfSlam::overlay(const FrameMeasurement& measurement, const ChessboardTarget& target) const {
+  return ekfOverlay(state_, features_, measurement, camera_, target, options_.search.patch_size);
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,81 @@
+#pragma once
+// The MonoSLAM filter shared by the EKF back-ends (SPEC section 5): the state and its map of
+// features, predicted with the constant-velocity model, measured by active patch search, grown by
+// depth-particle rays in free image boxes and pruned of features that fail. A back-end decides when
+// it starts and what else it measures (monoslam: four board corners in the state; hybrid: every
+// board corner as a known landmark).
+#include <random>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/frame_overlay.h"
+#include "core/target.h"
+#include "core/tracker.h"
+#include "ekf/ekf_options.h"
+#include "ekf/ekf_state.h"
+#include "ekf/frame_measurement.h"
+#include "ekf/map_feature.h"
+
+namespace slamcmp {
+
+struct EkfSlamOptions {
+  MotionModelOptions motion;
+  ActiveSearchOptions search;
+  FeatureInitOptions feature_init;
+  MapManagementOptions map;
+  HealthOptions health;
+};
+
+// The camera pose's covariance as (position, rotation vector): 6x6, metres and radians. The
+// rotation error is the world-frame rotation taking the estimate to the truth, R_true = exp(e) R.
+using PoseCovariance = Eigen::Matrix<double, 6, 6>;
+
+class EkfSlam {
+ public:
+  EkfSlam(const CameraModel& camera, const EkfSlamOptions& options);
+
+  // The camera alone at T_world_camera with covariance P_camera (13x13); the map is cleared.
+  void reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera);
+  // A feature at an exactly known world point (zero covariance), its template cut from `grey`
+  // around uv. False if the template cannot be cut there.
+  bool addKnownPoint(const cv::Mat& grey, const Vec2& uv, const Vec3& p_world, const Vec3& normal_world);
+
+  // The motion model over dt seconds (default_dt when dt is not positive).
+  void predict(double dt);
+  // Active search of the map's points and their update (frame_measurement.h).
+  FrameMeasurement measure(const cv::Mat& grey);
+  // Depth particles of the initialising rays weighted in this frame; converged rays become points,
+  // failed ones are dropped. Then features failing too often are deleted and, when too few are
+  // visible, a new ray is started in a free image box.
+  void updateMap(const cv::Mat& grey, int visible);
+
+  // Why the filter cannot be trusted ("" if it can): not finite, not positive semi-definite, a
+  // position std, speed or angular speed beyond the health options.
+  std::string divergence() const;
+
+  const EkfState& state() const { return state_; }
+  EkfState& state() { return state_; }
+  const std::vector<MapFeature>& features() const { return features_; }
+  SE3 T_world_camera() const { return state_.T_world_camera(); }
+  PoseCovariance poseCovariance() const;
+  std::vector<MapPoint> mapPoints() const;  // points (not rays), known ones included
+  // What the filter saw this frame; call before updateMap (which may remove measured features).
+  FrameOverlay overlay(const FrameMeasurement& measurement, const ChessboardTarget& target) const;
+
+ private:
+  void removeFeature(size_t index);
+  void updateRays(const cv::Mat& grey);
+  void pruneAndGrow(const cv::Mat& grey, int visible);
+
+  CameraModel camera_;
+  EkfSlamOptions options_;
+  EkfState state_;
+  std::vector<MapFeature> features_;
+  int next_id_ = 0;
+  std::mt19937 rng_{0};
+};
+
+}  // namespace slamcmp
