@@ -34,10 +34,15 @@ struct LatePose {
   int measured = 0;
 };
 
+// A pose's covariance as (position, rotation vector), metres and radians: the rotation error is the
+// world-frame rotation taking the estimate to the truth, R_true = exp(e) R_estimate.
+using PoseCovariance = Eigen::Matrix<double, 6, 6>;
+
 struct FrameResult {
   TrackStatus status = TrackStatus::Lost;
   std::string source;                 // Tracked: where the pose came from ("board", "two_view", "ekf")
   std::optional<SE3> T_world_camera;  // empty when lost or initialising: never a made-up pose
+  std::optional<PoseCovariance> pose_covariance;  // filters: the pose's uncertainty (for NEES)
   int features = 0;                   // features the back-end holds (tracked or in the map)
   int measured = 0;                   // features measured in this frame
   std::string reason;                 // why the frame is lost or degraded; "" when all is well

@@ -74,7 +74,7 @@ const std::vector<MotionPreset>& motionPresets() {
       {"wall_turn", 300,
        "turns 90 degrees to the right-hand wall and moves along it, 12 s without the board, then turns back"},
       {"board_partial", 240,
-       "sweeps sideways facing the wall: at each end of the sweep up to half the board leaves the image"},
+       "moves right, then up, facing the wall: up to half the board leaves the image by its left, then bottom, edge"},
       {"roll_distortion", 200,
        "rolls up to 110 degrees each way, the board always in view, through a strongly distorting lens"},
   };
@@ -150,11 +150,14 @@ SE3 CameraMotion::nominal(double t) const {
     return lookAt(p, p + turn * (c + Vec3(0.03 * std::sin(kTwoPi * t / 12.0), 0, 0) - p));
   }
   if (preset_ == "board_partial") {
-    // Facing the wall square on at 0.7 m, 0.38 m each side of the board's centre (12 s a sweep):
-    // at the ends the board's outer columns leave the image.
-    const double phi = kTwoPi * t / 12.0;
-    const Vec3 p = c + Vec3(0.38 * std::sin(phi), 0.05 * std::sin(0.5 * phi + 0.7), -0.70 + 0.03 * std::sin(1.3 * phi));
-    return lookAt(p, p + Vec3(0.04 * std::sin(phi), 0.0, 1.0));
+    // Facing the wall square on at 0.7 m: half a 12 s cycle 0.38 m to the right, half 0.28 m up, so
+    // the board leaves the image by its left, then its bottom, edge, up to half of it (and no box
+    // comes between the camera and the board, as in the other presets).
+    const double u = std::sin(kTwoPi * t / 12.0);
+    const double right = std::max(u, 0.0) * std::max(u, 0.0), up = std::min(u, 0.0) * std::min(u, 0.0);
+    const Vec3 p = c + Vec3(0.38 * right + 0.02 * std::sin(kTwoPi * t / 5.0), -0.28 * up,
+                            -0.70 + 0.03 * std::sin(kTwoPi * t / 7.0));
+    return lookAt(p, p + Vec3(0.04 * u, 0.0, 1.0));
   }
   if (preset_ == "roll_distortion") {
     // Roll of 110 degrees each way (16 s a cycle), small lateral and depth motion, the board in view.

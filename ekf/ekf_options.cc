@@ -76,4 +76,10 @@ void StartOptions::check() const {
     require(sigma >= 0 && std::isfinite(sigma), field, "must be a finite standard deviation >= 0");
 }
 
+void ReportingOptions::check() const {
+  require(min_measured >= 0, "min_measured", "must be >= 0");
+  require(max_weak_frames >= 1, "max_weak_frames", "must be >= 1");
+  require(max_position_sigma > 0, "max_position_sigma", "must be positive");
+}
+
 }  // namespace slamcmp

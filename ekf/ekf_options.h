@@ -146,4 +146,20 @@ struct StartOptions {
   void check() const;
 };
 
+// When a filter reports a frame lost instead of its extrapolation (SPEC section 4: never a made-up
+// pose): too few measurements for several frames running, or a camera position std beyond a bound.
+// The filter runs on; its frames are posed again once it measures enough and is certain enough.
+struct ReportingOptions {
+  int min_measured = 4;              // measurements a frame (points and board corners) for a well-measured frame
+  int max_weak_frames = 3;           // this many weakly measured frames running: lost
+  double max_position_sigma = 0.05;  // m; a larger camera position std (largest axis): lost
+  template <class V>
+  void visit(V& v) {
+    v("min_measured", min_measured, "measurements a frame (points and board corners) for a well-measured frame");
+    v("max_weak_frames", max_weak_frames, "this many weakly measured frames running: the frames are lost");
+    v("max_position_sigma", max_position_sigma, "m; a larger camera position std (largest axis): lost");
+  }
+  void check() const;
+};
+
 }  // namespace slamcmp

@@ -53,9 +53,9 @@ FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
   return measureFeatures(state_, features_, camera_, grey, options_.search);
 }
 
-void EkfSlam::updateMap(const cv::Mat& grey, int visible) {
+void EkfSlam::updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear) {
   updateRays(grey);
-  pruneAndGrow(grey, visible);
+  pruneAndGrow(grey, visible, keep_clear);
 }
 
 void EkfSlam::removeFeature(size_t index) {
@@ -98,7 +98,7 @@ void EkfSlam::updateRays(const cv::Mat& grey) {
   }
 }
 
-void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible) {
+void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear) {
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
     const MapFeature& f = features_[i];
@@ -113,7 +113,7 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible) {
       std::count_if(features_.begin(), features_.end(), [](const MapFeature& f) { return f.is_ray; }));
   if (visible >= fo.min_visible || rays >= fo.max_initialising || static_cast<int>(features_.size()) >= mo.max_features)
     return;
-  std::vector<Vec2> occupied;
+  std::vector<Vec2> occupied = keep_clear;
   for (const MapFeature& f : features_) {
     const Vec3 y = f.is_ray ? Vec3(state_.x().segment<3>(f.offset) +
                                    f.particles.mean() * state_.x().segment<3>(f.offset + 3))

@@ -29,10 +29,6 @@ struct EkfSlamOptions {
   HealthOptions health;
 };
 
-// The camera pose's covariance as (position, rotation vector): 6x6, metres and radians. The
-// rotation error is the world-frame rotation taking the estimate to the truth, R_true = exp(e) R.
-using PoseCovariance = Eigen::Matrix<double, 6, 6>;
-
 class EkfSlam {
  public:
   EkfSlam(const CameraModel& camera, const EkfSlamOptions& options);
@@ -49,8 +45,9 @@ class EkfSlam {
   FrameMeasurement measure(const cv::Mat& grey);
   // Depth particles of the initialising rays weighted in this frame; converged rays become points,
   // failed ones are dropped. Then features failing too often are deleted and, when too few are
-  // visible, a new ray is started in a free image box.
-  void updateMap(const cv::Mat& grey, int visible);
+  // visible, a new ray is started in an image box free of features and of `keep_clear` (pixels,
+  // e.g. a board's corners: its repeated squares are a patch search's worst case).
+  void updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear = {});
 
   // Why the filter cannot be trusted ("" if it can): not finite, not positive semi-definite, a
   // position std, speed or angular speed beyond the health options.
@@ -68,7 +65,7 @@ class EkfSlam {
  private:
   void removeFeature(size_t index);
   void updateRays(const cv::Mat& grey);
-  void pruneAndGrow(const cv::Mat& grey, int visible);
+  void pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear);
 
   CameraModel camera_;
   EkfSlamOptions options_;

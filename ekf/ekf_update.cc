@@ -21,6 +21,11 @@ Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h,
   static_assert(EkfState::kR == 0 && EkfState::kQ == 3, "r and q are the first 7 entries");
   const Eigen::MatrixXd& P = state.P();
   const Mat27 H_c = poseJacobian(h);
+  if (offset == kKnownPoint) {
+    Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose();
+    S.diagonal().array() += pixel_sigma * pixel_sigma;
+    return 0.5 * (S + S.transpose());
+  }
   const Eigen::Matrix<double, 2, 3> H_c_P_cy = H_c * P.block<kPose, 3>(0, offset);
   Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose() +
            h.H_y * P.block<3, 3>(offset, offset) * h.H_y.transpose();
@@ -32,16 +37,18 @@ Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h,
 
 Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
                                      double pixel_sigma) {
-  // P restricted to (r, q, y_1..y_m) and H over the same entries: S = H_sub P_sub H_sub^T + R.
+  // P restricted to (r, q, y_1..y_m) and H over the same entries: S = H_sub P_sub H_sub^T + R
+  // (a known point's y block stays zero: it is exact).
   const int m = static_cast<int>(observations.size()), d = kPose + 3 * m;
   const Eigen::MatrixXd& P = state.P();
-  std::vector<int> index(d);
+  std::vector<int> index(d, -1);
   for (int i = 0; i < kPose; ++i) index[i] = i;
   for (int k = 0; k < m; ++k)
-    for (int i = 0; i < 3; ++i) index[kPose + 3 * k + i] = observations[k].offset + i;
+    for (int i = 0; i < 3; ++i)
+      if (observations[k].offset != kKnownPoint) index[kPose + 3 * k + i] = observations[k].offset + i;
   Eigen::MatrixXd P_sub(d, d);
   for (int j = 0; j < d; ++j)
-    for (int i = 0; i < d; ++i) P_sub(i, j) = P(index[i], index[j]);
+    for (int i = 0; i < d; ++i) P_sub(i, j) = index[i] < 0 || index[j] < 0 ? 0.0 : P(index[i], index[j]);
   Eigen::MatrixXd H_sub = Eigen::MatrixXd::Zero(2 * m, d);
   for (int k = 0; k < m; ++k) {
     H_sub.block<2, kPose>(2 * k, 0) = poseJacobian(observations[k].h);
@@ -61,14 +68,14 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   for (int k = 0; k < m; ++k) {
     const PointObservation& o = observations[k];
     W.middleCols<2>(2 * k).noalias() = P.leftCols<kPose>() * poseJacobian(o.h).transpose();
-    W.middleCols<2>(2 * k).noalias() += P.middleCols<3>(o.offset) * o.h.H_y.transpose();
+    if (o.offset != kKnownPoint) W.middleCols<2>(2 * k).noalias() += P.middleCols<3>(o.offset) * o.h.H_y.transpose();
   }
   // S = H (P H^T) + R from the rows of P H^T that H touches.
   Eigen::MatrixXd S(2 * m, 2 * m);
   for (int k = 0; k < m; ++k) {
     const PointObservation& o = observations[k];
     S.middleRows<2>(2 * k).noalias() = poseJacobian(o.h) * W.topRows<kPose>();
-    S.middleRows<2>(2 * k).noalias() += o.h.H_y * W.middleRows<3>(o.offset);
+    if (o.offset != kKnownPoint) S.middleRows<2>(2 * k).noalias() += o.h.H_y * W.middleRows<3>(o.offset);
   }
   S.diagonal().array() += pixel_sigma * pixel_sigma;
   Eigen::VectorXd nu(2 * m);

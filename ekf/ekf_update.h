@@ -7,8 +7,12 @@
 
 namespace slamcmp {
 
+// A point whose world position is known exactly and is not in the state (a board corner): its
+// measurement depends on the camera only.
+constexpr int kKnownPoint = -1;
+
 struct PointObservation {
-  int offset = 0;          // state offset of the point's 3 coordinates
+  int offset = 0;          // state offset of the point's 3 coordinates, or kKnownPoint
   Vec2 z = Vec2::Zero();   // measured pixel (distorted)
   PointMeasurement h;      // prediction and Jacobians at the prior state
 };

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/yaml.h"
 #include "cslam/cslam_tracker.h"
+#include "hybrid/hybrid_tracker.h"
 #include "monoslam_ekf/monoslam_tracker.h"
 
 namespace slamcmp {
@@ -10,7 +11,7 @@ namespace slamcmp {
 const std::vector<BackendRegistration>& backends() {
   // Explicit, not self-registering objects: no static-initialisation order, and a linker cannot
   // drop an unreferenced registration from a static library.
-  static const std::vector<BackendRegistration> all{cslamBackend(), monoslamBackend()};
+  static const std::vector<BackendRegistration> all{cslamBackend(), monoslamBackend(), hybridBackend()};
   return all;
 }
 

@@ -14,6 +14,8 @@
 #include "core/sequence.h"
 #include "core/trajectory.h"
 #include "eval/metrics/map_metrics.h"
+#include "eval/metrics/nees.h"
+#include "eval/metrics/trajectory_metrics.h"
 #include "eval/overlay/overlay_output.h"
 #include "eval/metrics/run_errors.h"
 #include "eval/app/backends.h"
@@ -101,6 +103,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   FramePrefetcher frames(*seq.frames, request.max_frames);
   DecodedFrame d;
   int decoded_ok = 0;
+  std::vector<CovariantPose> covariant_poses;  // filters' poses with their covariance, for NEES
   bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
   while (!interrupted() && !quit && frames.next(&d)) {
     if (d.frame.grey.empty()) {
@@ -112,6 +115,9 @@ nlohmann::json runSequence(const RunRequest& request) {
     const FrameResult result = tracker->track(d.frame);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     recorder.record(d.frame, result, ms, d.decode_ms);
+    if (result.T_world_camera && result.pose_covariance && result.T_world_camera->isFinite() &&
+        result.pose_covariance->allFinite())
+      covariant_poses.push_back({d.frame.timestamp, *result.T_world_camera, *result.pose_covariance});
     if (overlay && !overlay->add(d.frame, result)) quit = true;
     if (request.progress) progress.update(recorder.frames(), toString(result.status));
     if (request.on_frame) request.on_frame();
@@ -142,6 +148,8 @@ nlohmann::json runSequence(const RunRequest& request) {
         extra["ate"] = errors->json["ate"];
         extra["rpe"] = errors->json["rpe"];
       }
+      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff))
+        extra["nees"] = neesToJson(*nees);
     } catch (const InputError& e) {  // the run is fine; only its score is impossible
       extra["metrics_error"] = e.what();
     }

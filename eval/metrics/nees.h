@@ -1,0 +1,39 @@
+#pragma once
+// A filter's honesty against ground truth (SPEC section 4 `nees`): the normalised estimation error
+// squared of the pose, e^T P^-1 e over its 6 dof (position, world-frame rotation vector), averaged
+// over the run, with the 95 % bounds of that average for a consistent filter (Bar-Shalom, Li and
+// Kirubarajan 2001, 5.4.2: N times the average is chi-square with 6N dof).
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/tracker.h"
+#include "core/trajectory.h"
+
+namespace slamcmp {
+
+struct CovariantPose {
+  double timestamp = 0;
+  SE3 T_world_camera;
+  PoseCovariance covariance;
+};
+
+struct NeesResult {
+  double mean = 0;
+  int dof = 6;
+  double lower = 0, upper = 0;  // 95 % bounds of the mean for a consistent filter
+  int frames = 0;               // poses scored
+};
+
+// Poses associated with the ground truth by timestamp (within max_diff seconds); poses whose
+// covariance is not positive definite are skipped. Nothing when no pose can be scored.
+std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
+                                   double max_diff);
+
+// The chi-square quantile (Wilson and Hilferty's approximation, within 0.1 % from 30 dof up).
+double chiSquareQuantile(double probability, double dof);
+
+nlohmann::json neesToJson(const NeesResult& nees);
+
+}  // namespace slamcmp

@@ -1,0 +1,316 @@
+#include "hybrid/board_corner_measurement.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "core/error.h"
+#include "ekf/measurement_model.h"
+#include "geometry/homography_pose.h"
+
+namespace slamcmp {
+
+void BoardCornerMeasurementOptions::check() const {
+  if (!(pixel_sigma > 0)) throw OptionError("pixel_sigma", "must be positive");
+  if (!(gate > 0 && gate < 1)) throw OptionError("gate", "must be in (0, 1)");
+  if (lk_window_px < 5 || lk_window_px % 2 == 0 || lk_window_px > 51)
+    throw OptionError("lk_window_px", "must be odd and in [5, 51]");
+  if (lk_levels < 0 || lk_levels > 6) throw OptionError("lk_levels", "must be in [0, 6]");
+  if (!(max_forward_backward_px > 0)) throw OptionError("max_forward_backward_px", "must be positive");
+  if (!(max_predicted_search >= 0 && max_predicted_search <= 0.5))
+    throw OptionError("max_predicted_search", "must be in [0, 0.5] squares (a corner one square off must stay out)");
+  if (!(max_plane_error_px > 0)) throw OptionError("max_plane_error_px", "must be positive");
+  if (min_corners < 4) throw OptionError("min_corners", "must be >= 4 (a homography needs four)");
+  if (search_interval < 1) throw OptionError("search_interval", "must be >= 1");
+  if (!(reanchor_position_sigma >= 0 && reanchor_position_sigma < 10))
+    throw OptionError("reanchor_position_sigma", "must be in [0, 10) m");
+  if (!(reanchor_orientation_sigma >= 0 && reanchor_orientation_sigma < 1))
+    throw OptionError("reanchor_orientation_sigma", "must be in [0, 1)");
+  if (border_px < 0 || border_px > 100) throw OptionError("border_px", "must be in [0, 100]");
+}
+
+namespace {
+
+// Sub-pixel refinement of each point with one window for all (half side `half`, pixels).
+void refine(const cv::Mat& grey, int half, std::vector<cv::Point2f>& uv) {
+  if (uv.empty()) return;
+  cv::cornerSubPix(grey, uv, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.01));
+}
+
+}  // namespace
+
+BoardCornerMeasurer::BoardCornerMeasurer(const CameraModel& camera, const ChessboardTarget& target,
+                                         const BoardCornerMeasurementOptions& options)
+    : camera_(camera), target_(target), corners_world_(target.cornersWorld()), options_(options) {}
+
+void BoardCornerMeasurer::reset() {
+  tracked_ids_.clear();
+  tracked_uv_.clear();
+}
+
+std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(const EkfState& state,
+                                                                               const cv::Mat& grey) const {
+  const int n = static_cast<int>(corners_world_.size());
+  std::vector<CornerPrediction> pred(n);
+  for (int i = 0; i < n; ++i) {
+    CornerPrediction& p = pred[i];
+    PointMeasurement next;  // the next corner along the row, for the square's size in pixels
+    const Vec3 along = corners_world_[i] + Vec3(target_.square_size, 0, 0);
+    if (!predictMeasurement(camera_, state.r(), state.q(), corners_world_[i], &p.h, 0.05) ||
+        !predictMeasurement(camera_, state.r(), state.q(), along, &next, 0.05))
+      continue;
+    const Vec2& uv = p.h.uv_distorted;
+    p.square_px = (next.uv_distorted - uv).norm();
+    // The refinement's window must stay inside the image: a window cut by the border biases the
+    // corner by pixels.
+    const double border = std::max<double>(options_.border_px, refineHalfWindow(p.square_px) + 2);
+    p.in_image = uv.x() >= border && uv.y() >= border && uv.x() <= grey.cols - 1 - border &&
+                 uv.y() <= grey.rows - 1 - border;
+    if (!p.in_image) continue;
+    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, options_.pixel_sigma);
+    p.half_axis_px = 3.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat2>(p.S).eigenvalues()(1)));
+  }
+  return pred;
+}
+
+BoardCornerMeasurement BoardCornerMeasurer::measureDetected(const EkfState& state, const cv::Mat& grey,
+                                                            const std::vector<cv::Point2f>& uv_distorted) {
+  const std::vector<CornerPrediction> pred = predict(state, grey);
+  std::vector<int> ids(uv_distorted.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(grey, pyramid, cv::Size(options_.lk_window_px, options_.lk_window_px),
+                              options_.lk_levels);
+  BoardCornerMeasurement out = keep(pred, ids, uv_distorted);
+  pyramid_prev_ = std::move(pyramid);
+  return out;
+}
+
+BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const cv::Mat& grey) {
+  const int n = static_cast<int>(corners_world_.size());
+  const std::vector<CornerPrediction> pred = predict(state, grey);
+  int predicted = 0;
+  std::vector<double> squares;
+  for (const CornerPrediction& p : pred)
+    if (p.in_image) {
+      ++predicted;
+      squares.push_back(p.square_px);
+    }
+  const bool all_in_image = predicted == n;
+  std::vector<cv::Mat> pyramid;
+  const cv::Size lk_window(options_.lk_window_px, options_.lk_window_px);
+  cv::buildOpticalFlowPyramid(grey, pyramid, lk_window, options_.lk_levels);
+  if (predicted == 0) {
+    reset();
+    pyramid_prev_ = std::move(pyramid);
+    return {};
+  }
+  std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
+  const double square_px = squares[squares.size() / 2];
+  const int half = refineHalfWindow(square_px);
+
+  std::vector<int> ids;
+  std::vector<cv::Point2f> uv;
+  // Tracked from the previous frame, checked forward and back, while the prediction is sure to
+  // within half a square (started further off, Lucas-Kanade settles on the neighbouring corner, and
+  // every corner together: the board's plane does not tell). Less sure: the search below.
+  std::vector<double> half_axes;
+  for (int id : tracked_ids_) half_axes.push_back(pred[id].half_axis_px / std::max(1.0, pred[id].square_px));
+  std::nth_element(half_axes.begin(), half_axes.begin() + half_axes.size() / 2, half_axes.end());
+  const bool sure = !half_axes.empty() && half_axes[half_axes.size() / 2] < 0.5;
+  if (sure && !pyramid_prev_.empty()) {
+    // Started where the filter predicts each corner (its constant-velocity motion), not where it
+    // was: a fast turn moves the board by most of a square a frame, and Lucas-Kanade started a
+    // square off settles on the neighbouring corner.
+    std::vector<cv::Point2f> forward, back;
+    for (int id : tracked_ids_)
+      forward.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()), static_cast<float>(pred[id].h.uv_distorted.y()));
+    std::vector<unsigned char> ok_f, ok_b;
+    std::vector<float> err;
+    const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
+    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, forward, ok_f, err, lk_window, options_.lk_levels,
+                             lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    // The check back is started as the way forward was, from the prediction's image motion, so
+    // it tests the correction Lucas-Kanade made to the prediction.
+    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
+      const Vec2& predicted = pred[tracked_ids_[k]].h.uv_distorted;
+      back.push_back(tracked_uv_[k] + forward[k] -
+                     cv::Point2f(static_cast<float>(predicted.x()), static_cast<float>(predicted.y())));
+    }
+    cv::calcOpticalFlowPyrLK(pyramid, pyramid_prev_, forward, back, ok_b, err, lk_window, options_.lk_levels, lk_stop,
+                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
+      const int id = tracked_ids_[k];
+      if (!ok_f[k] || !ok_b[k] || !pred[id].in_image) continue;
+      if (cv::norm(back[k] - tracked_uv_[k]) > options_.max_forward_backward_px) continue;
+      ids.push_back(id);
+      uv.push_back(forward[k]);
+    }
+  }
+  // Refined where the filter predicts them, when its uncertainty is well under a square.
+  for (int i = 0; i < n; ++i) {
+    if (!pred[i].in_image || std::find(ids.begin(), ids.end(), i) != ids.end()) continue;
+    if (pred[i].half_axis_px > options_.max_predicted_search * pred[i].square_px) continue;
+    ids.push_back(i);
+    uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
+  }
+  refine(grey, half, uv);
+  BoardCornerMeasurement out = keep(pred, ids, uv);
+  // The board back in view, or its corners lost by the tracking: a board search where the filter
+  // predicts it.
+  if (static_cast<int>(out.observations.size()) * 2 < predicted && all_in_image) {
+    out.searched = true;
+    out.detected = searchPredictedRegion(pred, grey, square_px);
+    if (!out.detected.empty()) {
+      ids.resize(n);
+      for (int i = 0; i < n; ++i) ids[i] = i;
+      out = keep(pred, ids, out.detected);
+      out.searched = true;
+    }
+  }
+  out.predicted = predicted;
+  pyramid_prev_ = std::move(pyramid);
+  return out;
+}
+
+std::vector<cv::Point2f> BoardCornerMeasurer::searchPredictedRegion(const std::vector<CornerPrediction>& pred,
+                                                                    const cv::Mat& grey, double square_px) const {
+  const int n = static_cast<int>(pred.size());
+  double half_axis = 0;
+  Vec2 lo = Vec2::Constant(1e9), hi = Vec2::Constant(-1e9);
+  std::vector<cv::Point2f> predicted_uv(n);
+  for (int i = 0; i < n; ++i) {
+    const Vec2& uv = pred[i].h.uv_distorted;
+    predicted_uv[i] = cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+    lo = lo.cwiseMin(uv);
+    hi = hi.cwiseMax(uv);
+    half_axis = std::max(half_axis, pred[i].half_axis_px);
+  }
+  // The detector needs the outer squares and the white margin around them: 2.5 squares.
+  const double margin = std::max(half_axis, 2.5 * square_px);
+  const cv::Rect roi = cv::Rect(cv::Point(static_cast<int>(lo.x() - margin), static_cast<int>(lo.y() - margin)),
+                                cv::Point(static_cast<int>(hi.x() + margin) + 1, static_cast<int>(hi.y() + margin) + 1)) &
+                       cv::Rect(0, 0, grey.cols, grey.rows);
+  std::vector<cv::Point2f> found;
+  if (roi.area() == 0 || !detectChessboard(grey(roi), target_, &found, options_.detector)) return {};
+  for (cv::Point2f& p : found) p += cv::Point2f(static_cast<float>(roi.x), static_cast<float>(roi.y));
+  chooseSymmetricOrder(target_, found, predicted_uv);  // a symmetric board: the predicted origin
+  return found;
+}
+
+BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, const cv::Mat& grey) {
+  if (tracked_ids_.empty()) return {};
+  const std::vector<CornerPrediction> pred = predict(state, grey);
+  std::vector<int> ids;
+  std::vector<cv::Point2f> uv;
+  std::vector<double> squares;
+  for (int i = 0; i < static_cast<int>(pred.size()); ++i) {
+    const CornerPrediction& p = pred[i];
+    if (!p.in_image || std::find(tracked_ids_.begin(), tracked_ids_.end(), i) != tracked_ids_.end() ||
+        p.half_axis_px > options_.max_predicted_search * p.square_px)
+      continue;
+    ids.push_back(i);
+    uv.emplace_back(static_cast<float>(p.h.uv_distorted.x()), static_cast<float>(p.h.uv_distorted.y()));
+    squares.push_back(p.square_px);
+  }
+  if (ids.empty()) return {};
+  std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
+  refine(grey, refineHalfWindow(squares[squares.size() / 2]), uv);
+  // Gated one by one, then on the board plane with the corners already kept this frame.
+  const double gate = -2.0 * std::log(1.0 - options_.gate);
+  std::vector<int> all_ids = tracked_ids_;
+  std::vector<Vec2> all_z;
+  for (const cv::Point2f& p : tracked_uv_) all_z.emplace_back(p.x, p.y);
+  const size_t first_new = all_ids.size();
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const CornerPrediction& p = pred[ids[k]];
+    const Vec2 measured(uv[k].x, uv[k].y);
+    const Vec2 nu = measured - p.h.uv_distorted;
+    if (!measured.allFinite() || nu.dot(p.S.ldlt().solve(nu)) > gate) continue;
+    all_ids.push_back(ids[k]);
+    all_z.push_back(measured);
+  }
+  const std::vector<double> errors = planeErrorsPx(all_ids, all_z);
+  BoardCornerMeasurement out;
+  for (size_t k = first_new; k < all_ids.size(); ++k) {
+    if (errors[k] > options_.max_plane_error_px) continue;
+    PointObservation o;
+    o.offset = kKnownPoint;
+    o.z = all_z[k];
+    o.h = pred[all_ids[k]].h;
+    out.observations.push_back(o);
+    out.corner_ids.push_back(all_ids[k]);
+    tracked_ids_.push_back(all_ids[k]);
+    tracked_uv_.emplace_back(static_cast<float>(all_z[k].x()), static_cast<float>(all_z[k].y()));
+  }
+  return out;
+}
+
+int BoardCornerMeasurer::refineHalfWindow(double square_px) const {
+  // A window under half a square, as for the detector's refinement (SPEC section 6).
+  return std::clamp(static_cast<int>(0.4 * square_px), 2, options_.detector.max_refine_half_window);
+}
+
+std::vector<double> BoardCornerMeasurer::planeErrorsPx(const std::vector<int>& ids, const std::vector<Vec2>& z) const {
+  std::vector<Vec2> plane, xy;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    plane.push_back(corners_world_[ids[k]].head<2>());
+    xy.push_back(camera_.undistortPixel(z[k]));
+  }
+  std::vector<double> errors = homographyErrors(homographyDlt(plane, xy), plane, xy);
+  const double focal = 0.5 * (camera_.fx + camera_.fy);
+  for (double& e : errors) e *= focal;
+  return errors;
+}
+
+BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPrediction>& pred, const std::vector<int>& ids,
+                                                 const std::vector<cv::Point2f>& uv) {
+  BoardCornerMeasurement out;
+  // Each corner within its own innovation gate.
+  const double gate = -2.0 * std::log(1.0 - options_.gate);  // chi-square quantile, 2 dof
+  std::vector<int> kept;
+  std::vector<Vec2> z;
+  for (size_t k = 0; k < ids.size(); ++k) {
+    const CornerPrediction& p = pred[ids[k]];
+    if (!p.in_image) continue;
+    const Vec2 measured(uv[k].x, uv[k].y);
+    const Vec2 nu = measured - p.h.uv_distorted;
+    if (!measured.allFinite() || nu.dot(p.S.ldlt().solve(nu)) > gate) continue;
+    kept.push_back(ids[k]);
+    z.push_back(measured);
+  }
+  // The set on the board plane: a homography through the kept corners; the ones off it are dropped
+  // (twice: the first fit may be pulled by the worst).
+  for (int pass = 0; pass < 2 && static_cast<int>(kept.size()) >= options_.min_corners; ++pass) {
+    const std::vector<double> errors = planeErrorsPx(kept, z);
+    std::vector<int> kept_next;
+    std::vector<Vec2> z_next;
+    for (size_t k = 0; k < kept.size(); ++k)
+      if (errors[k] <= options_.max_plane_error_px) {
+        kept_next.push_back(kept[k]);
+        z_next.push_back(z[k]);
+      }
+    kept.swap(kept_next);
+    z.swap(z_next);
+  }
+  reset();
+  if (static_cast<int>(kept.size()) >= options_.min_corners) {
+    for (size_t k = 0; k < kept.size(); ++k) {
+      PointObservation o;
+      o.offset = kKnownPoint;
+      o.z = z[k];
+      o.h = pred[kept[k]].h;
+      out.observations.push_back(o);
+      out.corner_ids.push_back(kept[k]);
+      tracked_ids_.push_back(kept[k]);
+      tracked_uv_.emplace_back(static_cast<float>(z[k].x()), static_cast<float>(z[k].y()));
+    }
+  }
+  return out;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,114 @@
+#pragma once
+// Every board corner measured on its own, as a known landmark of the EKF (SPEC section 8): each
+// corner the filter predicts in the image is tracked by Lucas-Kanade from the previous frame,
+// or refined at the pixel the filter predicts when its search region is smaller than a square, or
+// found by a board search in the region where the filter predicts the board (the frame the board
+// comes back). Each measurement is gated by its own innovation covariance, and the set by a
+// homography of the board plane, so a corner one square off never reaches the update.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
+#include "core/chessboard.h"
+#include "core/target.h"
+#include "ekf/ekf_state.h"
+#include "ekf/ekf_update.h"
+#include "ekf/measurement_model.h"
+
+namespace slamcmp {
+
+struct BoardCornerMeasurementOptions {
+  double pixel_sigma = 0.2;          // pixels, a corner's measurement noise (renders: 0.06 px)
+  double gate = 0.9999;              // chi-square (2 dof) probability of a corner's innovation gate
+  int lk_window_px = 11;             // Lucas-Kanade window side, pixels
+  int lk_levels = 3;                 // pyramid levels above the image
+  double max_forward_backward_px = 0.5;  // a corner tracked back must land this close, pixels
+  double max_predicted_search = 0.3;  // refine at the prediction when its 3-sigma half axis is under this many squares
+  double max_plane_error_px = 1.5;   // corners off the board plane's homography by more are dropped, pixels
+  int min_corners = 6;               // fewer corners kept: none is used this frame
+  int search_interval = 5;           // while the board is not seen where predicted, a full search every this many frames
+  double reanchor_position_sigma = 0.02;     // m, added to the camera's when a found board disagrees with the filter
+  double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
+  int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
+  ChessboardDetectorOptions detector;
+  template <class V>
+  void visit(V& v) {
+    v("pixel_sigma", pixel_sigma, "pixels, measurement noise of a board corner");
+    v("gate", gate, "chi-square (2 dof) probability of each corner's innovation gate");
+    v("lk_window_px", lk_window_px, "Lucas-Kanade window side for tracking corners, pixels");
+    v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
+    v("max_forward_backward_px", max_forward_backward_px,
+      "a corner tracked forward then back must land this close to where it was, pixels");
+    v("max_predicted_search", max_predicted_search,
+      "a corner is refined at its predicted pixel when its 3-sigma half axis is under this many squares");
+    v("max_plane_error_px", max_plane_error_px,
+      "corners farther than this from the board plane's homography through the others are dropped, pixels");
+    v("min_corners", min_corners, "fewer corners kept: the board is not used in this frame");
+    v("search_interval", search_interval,
+      "while the board is not where the filter predicts it, the whole image is searched every this many frames");
+    v("reanchor_position_sigma", reanchor_position_sigma,
+      "m, added to the camera's std when a board found by a search disagrees with the filter (then it restarts)");
+    v("reanchor_orientation_sigma", reanchor_orientation_sigma,
+      "per quaternion component, added likewise");
+    v("border_px", border_px, "corners predicted closer than this to the image border are not measured, pixels");
+    v("detector", detector, "the board search where the filter predicts the board");
+  }
+  void check() const;
+};
+
+struct BoardCornerMeasurement {
+  std::vector<PointObservation> observations;  // offset kKnownPoint; z and h per kept corner
+  std::vector<int> corner_ids;                 // the corner index (SPEC order) of each observation
+  int predicted = 0;                           // corners predicted inside the image
+  bool searched = false;                       // a board search ran in the predicted region
+  std::vector<cv::Point2f> detected;           // what it found (SPEC order), kept or not
+};
+
+class BoardCornerMeasurer {
+ public:
+  BoardCornerMeasurer(const CameraModel& camera, const ChessboardTarget& target,
+                      const BoardCornerMeasurementOptions& options);
+
+  // The corners measured in `grey` given the filter's prior `state` (not changed). Remembers what
+  // it kept for the next frame's tracking.
+  BoardCornerMeasurement measure(const EkfState& state, const cv::Mat& grey);
+  // After the update with measure()'s corners: the corners that entered the image or were not
+  // tracked, refined at the pixels the updated filter predicts (now well under a square away).
+  BoardCornerMeasurement measureNew(const EkfState& state, const cv::Mat& grey);
+  // The corners of a board detection (SPEC order, distorted pixels), gated against the prior.
+  BoardCornerMeasurement measureDetected(const EkfState& state, const cv::Mat& grey,
+                                         const std::vector<cv::Point2f>& uv_distorted);
+  // Forget the tracked corners (a restart).
+  void reset();
+
+ private:
+  struct CornerPrediction {
+    bool in_image = false;
+    PointMeasurement h;
+    Mat2 S = Mat2::Identity();
+    double half_axis_px = 0;  // 3-sigma half axis of S
+    double square_px = 0;     // the square's side near this corner, pixels
+  };
+  std::vector<CornerPrediction> predict(const EkfState& state, const cv::Mat& grey) const;
+  int refineHalfWindow(double square_px) const;
+  // A board detection in the region where the filter predicts the board; empty if none.
+  std::vector<cv::Point2f> searchPredictedRegion(const std::vector<CornerPrediction>& pred, const cv::Mat& grey,
+                                                 double square_px) const;
+  // Each corner's distance to the board plane's homography through all of them, pixels.
+  std::vector<double> planeErrorsPx(const std::vector<int>& ids, const std::vector<Vec2>& z) const;
+  // Gates each candidate (ids[k] measured at uv[k]) by its innovation, then the set by the board
+  // plane; remembers the kept ones for tracking.
+  BoardCornerMeasurement keep(const std::vector<CornerPrediction>& pred, const std::vector<int>& ids,
+                              const std::vector<cv::Point2f>& uv);
+
+  CameraModel camera_;
+  ChessboardTarget target_;
+  std::vector<Vec3> corners_world_;
+  BoardCornerMeasurementOptions options_;
+  std::vector<cv::Mat> pyramid_prev_;
+  std::vector<int> tracked_ids_;
+  std::vector<cv::Point2f> tracked_uv_;
+};
+
+}  // namespace slamcmp

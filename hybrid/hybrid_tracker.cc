@@ -1,0 +1,261 @@
+#include "hybrid/hybrid_tracker.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "core/chessboard.h"
+#include "core/error.h"
+#include "core/options.h"
+#include "ekf/ekf_update.h"
+#include "geometry/homography_pose.h"
+
+namespace slamcmp {
+
+void HybridStartOptions::check() const {
+  for (const auto& [field, sigma] : {std::pair{"position_sigma", position_sigma},
+                                     {"orientation_sigma", orientation_sigma},
+                                     {"velocity_sigma", velocity_sigma},
+                                     {"angular_velocity_sigma", angular_velocity_sigma}})
+    if (!(sigma > 0 && sigma < 100)) throw OptionError(field, "must be a standard deviation in (0, 100)");
+}
+
+namespace {
+
+std::string fixed(double value, int digits) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << value;
+  return out.str();
+}
+
+}  // namespace
+
+HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions& options)
+    : options_(options), image_size_(context.image_size), want_overlay_(context.want_overlay) {
+  if (!context.target)
+    throw InputError("--target", "hybrid needs the chessboard target (target.yaml beside the sequence or --target)");
+  target_ = *context.target;
+  if (context.camera) {
+    camera_ = context.camera;
+    image_size_ = cv::Size(camera_->width, camera_->height);
+    startFilter(*camera_);
+  } else {
+    calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
+  }
+}
+
+void HybridTracker::startFilter(const CameraModel& camera) {
+  slam_ = std::make_unique<EkfSlam>(
+      camera, EkfSlamOptions{options_.motion, options_.search, options_.feature_init, options_.map, options_.health});
+  corners_ = std::make_unique<BoardCornerMeasurer>(camera, target_, options_.corners);
+}
+
+nlohmann::json HybridTracker::options() const {
+  nlohmann::json j = optionsToJson(options_);
+  if (calibration_rms_px_)
+    j["self_calibration"] = {{"fx", camera_->fx}, {"fy", camera_->fy}, {"cx", camera_->cx},
+                             {"cy", camera_->cy}, {"rms_px", *calibration_rms_px_}};
+  return j;
+}
+
+void HybridTracker::finish() {
+  if (ever_started_) return;
+  if (!camera_)
+    throw InputError("", "no camera file and only " + std::to_string(calibrator_->numViews()) +
+                             " distinct board views: too few to self-calibrate");
+  throw InputError("", "hybrid never started: no frame showed the " + std::to_string(target_.cols) + "x" +
+                           std::to_string(target_.rows) + " chessboard");
+}
+
+bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
+  ++calibration_frames_;
+  std::vector<cv::Point2f> corners;
+  if (detectChessboard(frame.grey, target_, &corners, options_.corners.detector)) calibrator_->addView(corners);
+  if (calibrator_->full() || calibration_frames_ >= options_.calibration.max_frames) {
+    if (const auto calibration = calibrator_->calibrate()) {
+      camera_ = calibration->camera;
+      calibration_rms_px_ = calibration->rms_px;
+      calibrator_.reset();
+      startFilter(*camera_);
+      return true;
+    }
+  }
+  result->status = TrackStatus::Initialising;
+  result->reason = "gathering self-calibration views (" + std::to_string(calibrator_->numViews()) + " of " +
+                   std::to_string(options_.calibration.min_views) + ")";
+  return false;
+}
+
+bool HybridTracker::start(const Frame& frame, BoardCornerMeasurement* board, std::string* reason) {
+  std::vector<cv::Point2f> uv;
+  if (!detectChessboard(frame.grey, target_, &uv, options_.corners.detector)) {
+    *reason = "no board seen";
+    return false;
+  }
+  if (target_.symmetric() && last_pose_) chooseSymmetricOrder(target_, uv, projectBoardCorners(*camera_, target_, *last_pose_));
+  if (!startFromCorners(frame, uv, board)) {
+    *reason = "the board's corners do not fit one pose";
+    return false;
+  }
+  return true;
+}
+
+bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::Point2f>& uv,
+                                     BoardCornerMeasurement* board) {
+  // The board's own pose (thesis eqs. 3.1 to 3.17) sets the mean; this frame's corners then
+  // update it, so the start's covariance is the board's.
+  std::vector<Vec2> xy;
+  for (const cv::Point2f& p : uv) xy.push_back(camera_->undistortPixel(Vec2(p.x, p.y)));
+  const BoardPose board_pose =
+      boardPose(target_.cornersWorld(), xy, 0.5 * (camera_->fx + camera_->fy), BoardPoseOptions{});
+  const HybridStartOptions& s = options_.start;
+  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
+  P0.diagonal() << Vec3::Constant(s.position_sigma * s.position_sigma),
+      Vec4::Constant(s.orientation_sigma * s.orientation_sigma), Vec3::Constant(s.velocity_sigma * s.velocity_sigma),
+      Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
+  slam_->reset(board_pose.T_camera_board.inverse(), P0);
+  corners_->reset();
+  *board = corners_->measureDetected(slam_->state(), frame.grey, uv);
+  if (board->observations.empty() || !batchUpdate(slam_->state(), board->observations, options_.corners.pixel_sigma))
+    return false;
+  running_ = true;
+  ever_started_ = true;
+  weak_frames_ = 0;
+  frames_since_search_ = 0;
+  last_timestamp_ = frame.timestamp;
+  return true;
+}
+
+BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* restarted) {
+  const BoardCornerMeasurementOptions& co = options_.corners;
+  BoardCornerMeasurement board = corners_->measure(slam_->state(), frame.grey);
+  if (!board.observations.empty() && batchUpdate(slam_->state(), board.observations, co.pixel_sigma)) {
+    frames_since_search_ = 0;
+    // Corners coming into view, where the updated filter now puts them within a pixel or two.
+    const BoardCornerMeasurement entering = corners_->measureNew(slam_->state(), frame.grey);
+    if (!entering.observations.empty() && batchUpdate(slam_->state(), entering.observations, co.pixel_sigma)) {
+      board.observations.insert(board.observations.end(), entering.observations.begin(), entering.observations.end());
+      board.corner_ids.insert(board.corner_ids.end(), entering.corner_ids.begin(), entering.corner_ids.end());
+    }
+    return board;
+  }
+  corners_->reset();
+  // Not where the filter predicts it: the whole image every search_interval frames (a full search
+  // of a frame without the board costs tens of milliseconds).
+  std::vector<cv::Point2f> found = board.detected;
+  if (found.empty() && ++frames_since_search_ >= co.search_interval) {
+    frames_since_search_ = 0;
+    if (!detectChessboard(frame.grey, target_, &found, co.detector)) found.clear();
+    else if (target_.symmetric() && last_pose_) chooseSymmetricOrder(target_, found, projectBoardCorners(*camera_, target_, *last_pose_));
+  }
+  if (found.empty()) return BoardCornerMeasurement();
+  // The board found where the filter did not expect it: the filter was too sure of the camera (a
+  // turn faster than its motion model, a drift). Its camera covariance is widened and the corners
+  // re-anchor the camera and, through the correlations, the map; if they still disagree, the
+  // filter restarts from the board.
+  Eigen::MatrixXd& P = slam_->state().P();
+  P.diagonal().segment<3>(EkfState::kR).array() += co.reanchor_position_sigma * co.reanchor_position_sigma;
+  P.diagonal().segment<4>(EkfState::kQ).array() += co.reanchor_orientation_sigma * co.reanchor_orientation_sigma;
+  board = corners_->measureDetected(slam_->state(), frame.grey, found);
+  if (!board.observations.empty() && batchUpdate(slam_->state(), board.observations, co.pixel_sigma)) return board;
+  *restarted = true;
+  if (!startFromCorners(frame, found, &board)) return BoardCornerMeasurement();
+  return board;
+}
+
+std::string HybridTracker::weakness(int measured) {
+  const ReportingOptions& ro = options_.reporting;
+  weak_frames_ = measured < ro.min_measured ? weak_frames_ + 1 : 0;
+  if (weak_frames_ >= ro.max_weak_frames)
+    return "fewer than " + std::to_string(ro.min_measured) + " measurements a frame for " +
+           std::to_string(weak_frames_) + " frames";
+  const double position_sigma = std::sqrt(std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<Mat3>(slam_->state().P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly)
+               .eigenvalues()(2)));
+  if (position_sigma > ro.max_position_sigma) return "camera position std " + fixed(position_sigma, 3) + " m";
+  return "";
+}
+
+FrameResult HybridTracker::track(const Frame& frame) {
+  FrameResult result;
+  if (!camera_ && !calibrate(frame, &result)) return result;
+  FrameMeasurement measurement;
+  BoardCornerMeasurement board;
+  if (!running_) {
+    std::string reason;
+    if (!start(frame, &board, &reason)) {
+      result.status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
+      result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
+      return result;
+    }
+    slam_->updateMap(frame.grey, visible_, boardPixels());
+  } else {
+    slam_->predict(frame.timestamp - last_timestamp_);
+    last_timestamp_ = frame.timestamp;
+    // The board first: its corners are exact landmarks, and the map's search regions then shrink.
+    bool restarted = false;
+    board = measureBoard(frame, &restarted);
+    if (restarted) result.reason = "the board disagreed with the filter: restarted from the board";
+    measurement = slam_->measure(frame.grey);
+    visible_ = measurement.visible;
+    if (want_overlay_) {
+      result.overlay = slam_->overlay(measurement, target_);
+      for (size_t k = 0; k < board.observations.size(); ++k)
+        result.overlay->features.push_back(
+            {-1 - board.corner_ids[k], board.observations[k].z, OverlayFeatureState::Matched});
+    }
+    slam_->updateMap(frame.grey, visible_, boardPixels());
+    const std::string why = slam_->divergence();
+    if (!why.empty()) {
+      running_ = false;
+      lost_reason_ = why;
+      corners_->reset();
+      result.status = TrackStatus::Lost;
+      result.reason = why;
+      return result;
+    }
+  }
+  result.measured = measurement.matched + static_cast<int>(board.observations.size());
+  result.features = static_cast<int>(slam_->features().size());
+  const std::string weak = weakness(result.measured);
+  if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting
+    result.status = TrackStatus::Lost;
+    result.reason = weak;
+    return result;
+  }
+  result.status = TrackStatus::Tracked;
+  result.source = board.observations.empty() ? "ekf" : "board";
+  result.T_world_camera = last_pose_ = slam_->T_world_camera();
+  result.pose_covariance = slam_->poseCovariance();
+  return result;
+}
+
+std::vector<Vec2> HybridTracker::boardPixels() const {
+  // The board's squares and margin: its corners and a ring one square outside them.
+  std::vector<Vec2> pixels;
+  const double s = target_.square_size;
+  for (int j = -1; j <= target_.rows; ++j)
+    for (int i = -1; i <= target_.cols; ++i) {
+      const Vec3 p_camera = slam_->T_world_camera().inverse() * Vec3(i * s, j * s, 0);
+      if (p_camera.z() > 0.05) pixels.push_back(camera_->project(p_camera));
+    }
+  return pixels;
+}
+
+std::vector<MapPoint> HybridTracker::mapPoints() const {
+  if (!running_) return {};
+  return slam_->mapPoints();
+}
+
+BackendRegistration hybridBackend() {
+  return makeRegistration<HybridOptions>(
+      "hybrid", "MonoSLAM's EKF with every board corner a known landmark: re-anchored whenever the board is seen",
+      {{"ekf", "hybrid", "#9467bd"}}, /*takes_init=*/false,
+      [](const TrackerContext& context, const HybridOptions& options) {
+        return std::make_unique<HybridTracker>(context, options);
+      });
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,120 @@
+#pragma once
+// The hybrid back-end (SPEC section 8, the thesis's future work): the MonoSLAM EKF (ekf/ekf_slam.h)
+// whose measurements also include every visible board corner as a known landmark at its exact
+// world position, measured corner by corner (hybrid/board_corner_measurement.h). It starts from the
+// board by itself, is as accurate as the board allows while it sees it (wholly or in part), carries
+// on with the room's features when it does not, and re-anchors the camera and, through the
+// covariance, the whole map in the frame the corners are found again. Without a camera file it
+// self-calibrates from the first board views, as cslam does.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/backend_registry.h"
+#include "core/self_calibration.h"
+#include "core/tracker.h"
+#include "ekf/ekf_options.h"
+#include "ekf/ekf_slam.h"
+#include "hybrid/board_corner_measurement.h"
+
+namespace slamcmp {
+
+// The first camera state's uncertainty: the board's pose is refined by the same frame's corners,
+// so the start only has to be wide enough for them to correct it; the velocity is not known.
+struct HybridStartOptions {
+  double position_sigma = 0.01;          // m
+  double orientation_sigma = 0.01;       // per quaternion component
+  double velocity_sigma = 0.3;           // m/s (a restart may come mid-turn)
+  double angular_velocity_sigma = 1.0;   // rad/s
+  template <class V>
+  void visit(V& v) {
+    v("position_sigma", position_sigma, "m, first camera position std, before the first frame's corners");
+    v("orientation_sigma", orientation_sigma, "first camera quaternion std per component, before the corners");
+    v("velocity_sigma", velocity_sigma, "m/s, first velocity std");
+    v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std");
+  }
+  void check() const;
+};
+
+struct HybridOptions {
+  MotionModelOptions motion;
+  ActiveSearchOptions search;
+  FeatureInitOptions feature_init;
+  MapManagementOptions map;
+  HealthOptions health;
+  ReportingOptions reporting;
+  HybridStartOptions start;
+  BoardCornerMeasurementOptions corners;
+  SelfCalibrationOptions calibration;
+  template <class V>
+  void visit(V& v) {
+    v("motion", motion, "constant-velocity motion model");
+    v("search", search, "active search of the room's features");
+    v("feature_init", feature_init, "new features: rays with depth particles");
+    v("map", map, "map size and deletion");
+    v("health", health, "divergence: the filter restarts from the board");
+    v("reporting", reporting, "when frames are reported lost instead of extrapolated");
+    v("start", start, "first camera state uncertainty");
+    v("corners", corners, "the board's corners, each a known landmark");
+    v("calibration", calibration, "self-calibration when no camera file is given");
+  }
+  void check() const {}  // each field's struct checks itself (checkOptions)
+};
+
+class HybridTracker : public Tracker {
+ public:
+  // Throws InputError without a target.
+  HybridTracker(const TrackerContext& context, const HybridOptions& options);
+
+  std::string name() const override { return "hybrid"; }
+  FrameResult track(const Frame& frame) override;
+  std::vector<MapPoint> mapPoints() const override;
+  nlohmann::json options() const override;
+  // Throws InputError when the filter never started (no board view, or too few to self-calibrate).
+  void finish() override;
+
+ private:
+  bool calibrate(const Frame& frame, FrameResult* result);
+  // The filter started from a board detection in `frame` and updated with its corners (*board).
+  bool start(const Frame& frame, BoardCornerMeasurement* board, std::string* reason);
+  bool startFromCorners(const Frame& frame, const std::vector<cv::Point2f>& uv, BoardCornerMeasurement* board);
+  // The board's corners measured and the filter updated with them: tracked or refined where
+  // predicted, found by a search in the predicted region or (every search_interval frames) the
+  // whole image; a board found where the filter did not expect it re-anchors the filter, or
+  // restarts it (*restarted).
+  BoardCornerMeasurement measureBoard(const Frame& frame, bool* restarted);
+  void startFilter(const CameraModel& camera);
+  // Why this frame's pose is not reported ("" if it is): too few measurements for several frames,
+  // or the camera position too uncertain.
+  std::string weakness(int measured);
+  // Where the board is in the image (pixels of its corners and a ring a square outside): no new
+  // feature is started there.
+  std::vector<Vec2> boardPixels() const;
+
+  ChessboardTarget target_;
+  HybridOptions options_;
+  cv::Size image_size_;
+  bool want_overlay_ = false;
+
+  std::optional<CameraModel> camera_;
+  std::unique_ptr<SelfCalibrator> calibrator_;
+  int calibration_frames_ = 0;
+  std::optional<double> calibration_rms_px_;
+
+  std::unique_ptr<EkfSlam> slam_;
+  std::unique_ptr<BoardCornerMeasurer> corners_;
+  bool running_ = false;
+  bool ever_started_ = false;
+  std::string lost_reason_;
+  std::optional<SE3> last_pose_;  // a restart keeps a symmetric board's origin
+  double last_timestamp_ = 0;
+  int weak_frames_ = 0;
+  int frames_since_search_ = 0;
+  int visible_ = 0;
+};
+
+// The back-end's registration (core/backend_registry.h): one mode, "ekf".
+BackendRegistration hybridBackend();
+
+}  // namespace slamcmp
