@@ -19,7 +19,7 @@ void BoardCornerMeasurementOptions::check() const {
   if (lk_window_px < 5 || lk_window_px % 2 == 0 || lk_window_px > 51)
     throw OptionError("lk_window_px", "must be odd and in [5, 51]");
   if (lk_levels < 0 || lk_levels > 6) throw OptionError("lk_levels", "must be in [0, 6]");
-  if (!(max_forward_backward_px > 0)) throw OptionError("max_forward_backward_px", "must be positive");
+  if (!(max_track_disagreement_px > 0)) throw OptionError("max_track_disagreement_px", "must be positive");
   if (!(max_predicted_search >= 0 && max_predicted_search <= 0.5))
     throw OptionError("max_predicted_search", "must be in [0, 0.5] squares (a corner one square off must stay out)");
   if (!(max_plane_error_px > 0)) throw OptionError("max_plane_error_px", "must be positive");
@@ -115,40 +115,29 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
 
   std::vector<int> ids;
   std::vector<cv::Point2f> uv;
-  // Tracked from the previous frame, checked forward and back, while the prediction is sure to
-  // within half a square (started further off, Lucas-Kanade settles on the neighbouring corner, and
-  // every corner together: the board's plane does not tell). Less sure: the search below.
-  std::vector<double> half_axes;
-  for (int id : tracked_ids_) half_axes.push_back(pred[id].half_axis_px / std::max(1.0, pred[id].square_px));
-  std::nth_element(half_axes.begin(), half_axes.begin() + half_axes.size() / 2, half_axes.end());
-  const bool sure = !half_axes.empty() && half_axes[half_axes.size() / 2] < 0.5;
-  if (sure && !pyramid_prev_.empty()) {
-    // Started where the filter predicts each corner (its constant-velocity motion), not where it
-    // was: a fast turn moves the board by most of a square a frame, and Lucas-Kanade started a
-    // square off settles on the neighbouring corner.
-    std::vector<cv::Point2f> forward, back;
+  // Tracked from the previous frame twice: started where the filter predicts each corner (its
+  // constant-velocity motion: a fast turn moves the board by most of a square a frame) and where
+  // the corner was. Lucas-Kanade started more than half a square off settles on the neighbouring
+  // corner, every corner alike, which neither the gate nor the board's plane can tell; the two
+  // starts agree only on the right one.
+  if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
+    std::vector<cv::Point2f> from_prediction, from_previous;
     for (int id : tracked_ids_)
-      forward.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()), static_cast<float>(pred[id].h.uv_distorted.y()));
-    std::vector<unsigned char> ok_f, ok_b;
+      from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
+                                   static_cast<float>(pred[id].h.uv_distorted.y()));
+    std::vector<unsigned char> ok_prediction, ok_previous;
     std::vector<float> err;
     const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, forward, ok_f, err, lk_window, options_.lk_levels,
-                             lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-    // The check back is started as the way forward was, from the prediction's image motion, so
-    // it tests the correction Lucas-Kanade made to the prediction.
-    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-      const Vec2& predicted = pred[tracked_ids_[k]].h.uv_distorted;
-      back.push_back(tracked_uv_[k] + forward[k] -
-                     cv::Point2f(static_cast<float>(predicted.x()), static_cast<float>(predicted.y())));
-    }
-    cv::calcOpticalFlowPyrLK(pyramid, pyramid_prev_, forward, back, ok_b, err, lk_window, options_.lk_levels, lk_stop,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok_prediction, err, lk_window,
+                             options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_previous, ok_previous, err, lk_window,
+                             options_.lk_levels, lk_stop);
     for (size_t k = 0; k < tracked_ids_.size(); ++k) {
       const int id = tracked_ids_[k];
-      if (!ok_f[k] || !ok_b[k] || !pred[id].in_image) continue;
-      if (cv::norm(back[k] - tracked_uv_[k]) > options_.max_forward_backward_px) continue;
+      if (!ok_prediction[k] || !ok_previous[k] || !pred[id].in_image) continue;
+      if (cv::norm(from_prediction[k] - from_previous[k]) > options_.max_track_disagreement_px) continue;
       ids.push_back(id);
-      uv.push_back(forward[k]);
+      uv.push_back(from_prediction[k]);
     }
   }
   // Refined where the filter predicts them, when its uncertainty is well under a square.

@@ -23,7 +23,7 @@ struct BoardCornerMeasurementOptions {
   double gate = 0.9999;              // chi-square (2 dof) probability of a corner's innovation gate
   int lk_window_px = 11;             // Lucas-Kanade window side, pixels
   int lk_levels = 3;                 // pyramid levels above the image
-  double max_forward_backward_px = 0.5;  // a corner tracked back must land this close, pixels
+  double max_track_disagreement_px = 0.5;  // the two tracks of a corner (from its prediction, from its last place) must agree, pixels
   double max_predicted_search = 0.3;  // refine at the prediction when its 3-sigma half axis is under this many squares
   double max_plane_error_px = 1.5;   // corners off the board plane's homography by more are dropped, pixels
   int min_corners = 6;               // fewer corners kept: none is used this frame
@@ -38,8 +38,8 @@ struct BoardCornerMeasurementOptions {
     v("gate", gate, "chi-square (2 dof) probability of each corner's innovation gate");
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side for tracking corners, pixels");
     v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
-    v("max_forward_backward_px", max_forward_backward_px,
-      "a corner tracked forward then back must land this close to where it was, pixels");
+    v("max_track_disagreement_px", max_track_disagreement_px,
+      "a corner is tracked from its predicted and from its last pixel; the two must agree this closely, pixels");
     v("max_predicted_search", max_predicted_search,
       "a corner is refined at its predicted pixel when its 3-sigma half axis is under this many squares");
     v("max_plane_error_px", max_plane_error_px,

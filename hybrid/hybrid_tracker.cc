@@ -1,8 +1,6 @@
 #include "hybrid/hybrid_tracker.h"
 
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
 #include <Eigen/Eigenvalues>
 
@@ -22,18 +20,11 @@ void HybridStartOptions::check() const {
     if (!(sigma > 0 && sigma < 100)) throw OptionError(field, "must be a standard deviation in (0, 100)");
 }
 
-namespace {
-
-std::string fixed(double value, int digits) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
-}
-
-}  // namespace
-
 HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions& options)
-    : options_(options), image_size_(context.image_size), want_overlay_(context.want_overlay) {
+    : options_(options),
+      image_size_(context.image_size),
+      want_overlay_(context.want_overlay),
+      reporting_(options.reporting) {
   if (!context.target)
     throw InputError("--target", "hybrid needs the chessboard target (target.yaml beside the sequence or --target)");
   target_ = *context.target;
@@ -122,7 +113,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
     return false;
   running_ = true;
   ever_started_ = true;
-  weak_frames_ = 0;
+  reporting_.reset();
   frames_since_search_ = 0;
   last_timestamp_ = frame.timestamp;
   return true;
@@ -163,19 +154,6 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   *restarted = true;
   if (!startFromCorners(frame, found, &board)) return BoardCornerMeasurement();
   return board;
-}
-
-std::string HybridTracker::weakness(int measured) {
-  const ReportingOptions& ro = options_.reporting;
-  weak_frames_ = measured < ro.min_measured ? weak_frames_ + 1 : 0;
-  if (weak_frames_ >= ro.max_weak_frames)
-    return "fewer than " + std::to_string(ro.min_measured) + " measurements a frame for " +
-           std::to_string(weak_frames_) + " frames";
-  const double position_sigma = std::sqrt(std::max(
-      0.0, Eigen::SelfAdjointEigenSolver<Mat3>(slam_->state().P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly)
-               .eigenvalues()(2)));
-  if (position_sigma > ro.max_position_sigma) return "camera position std " + fixed(position_sigma, 3) + " m";
-  return "";
 }
 
 FrameResult HybridTracker::track(const Frame& frame) {
@@ -219,7 +197,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
   }
   result.measured = measurement.matched + static_cast<int>(board.observations.size());
   result.features = static_cast<int>(slam_->features().size());
-  const std::string weak = weakness(result.measured);
+  const std::string weak = reporting_.weakness(result.measured, slam_->state());
   if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting
     result.status = TrackStatus::Lost;
     result.reason = weak;

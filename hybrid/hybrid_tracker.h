@@ -16,6 +16,7 @@
 #include "core/tracker.h"
 #include "ekf/ekf_options.h"
 #include "ekf/ekf_slam.h"
+#include "ekf/pose_reporting.h"
 #include "hybrid/board_corner_measurement.h"
 
 namespace slamcmp {
@@ -85,9 +86,6 @@ class HybridTracker : public Tracker {
   // restarts it (*restarted).
   BoardCornerMeasurement measureBoard(const Frame& frame, bool* restarted);
   void startFilter(const CameraModel& camera);
-  // Why this frame's pose is not reported ("" if it is): too few measurements for several frames,
-  // or the camera position too uncertain.
-  std::string weakness(int measured);
   // Where the board is in the image (pixels of its corners and a ring a square outside): no new
   // feature is started there.
   std::vector<Vec2> boardPixels() const;
@@ -109,7 +107,7 @@ class HybridTracker : public Tracker {
   std::string lost_reason_;
   std::optional<SE3> last_pose_;  // a restart keeps a symmetric board's origin
   double last_timestamp_ = 0;
-  int weak_frames_ = 0;
+  PoseReporting reporting_;
   int frames_since_search_ = 0;
   int visible_ = 0;
 };

@@ -12,6 +12,7 @@ struct MonoslamOptions {
   FeatureInitOptions feature_init;
   MapManagementOptions map;
   HealthOptions health;
+  ReportingOptions reporting;
   StartOptions start;
   ChessboardDetectorOptions board;
   template <class V>
@@ -21,6 +22,7 @@ struct MonoslamOptions {
     v("feature_init", feature_init, "new features: rays with depth particles");
     v("map", map, "map size and deletion");
     v("health", health, "divergence detection");
+    v("reporting", reporting, "when frames are reported lost instead of extrapolated");
     v("start", start, "first camera state uncertainty");
     v("board", board, "chessboard detection (initialisation and re-initialisation)");
   }

@@ -11,7 +11,8 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
       init_(context.init),
       want_overlay_(context.want_overlay),
       slam_(context.camera ? *context.camera : CameraModel(),
-            {options.motion, options.search, options.feature_init, options.map, options.health}) {
+            {options.motion, options.search, options.feature_init, options.map, options.health}),
+      reporting_(options.reporting) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
   if (!context.target)
@@ -83,6 +84,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   }
   running_ = true;
   ever_started_ = true;
+  reporting_.reset();
   frames_unmeasured_ = 0;
   last_timestamp_ = frame.timestamp;
   return true;
@@ -129,10 +131,16 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
       return result;
     }
   }
+  result.features = static_cast<int>(slam_.features().size());
+  if (const std::string weak = reporting_.weakness(result.measured, slam_.state()); !weak.empty()) {
+    result.status = TrackStatus::Lost;  // the filter runs on; its extrapolation is not a pose
+    result.reason = weak;
+    return result;
+  }
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
-  result.features = static_cast<int>(slam_.features().size());
+  result.pose_covariance = slam_.poseCovariance();
   if (result.measured == 0 && frames_unmeasured_ > 0) result.reason = "no feature matched: prediction only";
   return result;
 }

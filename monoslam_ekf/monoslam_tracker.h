@@ -8,6 +8,7 @@
 #include "core/backend_registry.h"
 #include "core/tracker.h"
 #include "ekf/ekf_slam.h"
+#include "ekf/pose_reporting.h"
 #include "monoslam_ekf/monoslam_options.h"
 
 namespace slamcmp {
@@ -37,6 +38,7 @@ class MonoslamTracker : public Tracker {
   std::optional<SE3> T_world_camera_init_;
 
   EkfSlam slam_;
+  PoseReporting reporting_;
   bool running_ = false;
   bool ever_started_ = false;
   std::string lost_reason_;
