@@ -61,10 +61,6 @@ Mat3 nearestRotation(const Mat3& M) {
 
 double rotationAngle(const Mat3& R) { return rotvecFromRotation(R).norm(); }
 
-Quat integrateAngularVelocity(const Quat& q, const Vec3& w, double dt) {
-  return (q * quatFromRotvec(w * dt)).normalized();
-}
-
 Eigen::Matrix4d SE3::matrix() const {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = R_;

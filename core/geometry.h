@@ -24,8 +24,6 @@ Vec3 rotvecFromQuat(const Quat& q);
 Mat3 nearestRotation(const Mat3& M);
 // Angle of a rotation in radians, in [0, pi].
 double rotationAngle(const Mat3& R);
-// q * quat(w dt): body-frame angular velocity w (rad/s) applied for dt seconds.
-Quat integrateAngularVelocity(const Quat& q, const Vec3& w, double dt);
 
 // A rigid transform T_a_b: maps a point in frame b to frame a, p_a = R * p_b + t.
 class SE3 {

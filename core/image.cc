@@ -34,32 +34,6 @@ bool sampleBilinear(const cv::Mat& grey, double u, double v, double* value) {
   return true;
 }
 
-bool extractPatch(const cv::Mat& grey, const Vec2& centre, int size, cv::Mat* patch) {
-  CV_Assert(size % 2 == 1 && grey.type() == CV_8UC1);
-  const int half = size / 2;
-  if (centre.x() - half < 0 || centre.y() - half < 0 || centre.x() + half + 1 >= grey.cols ||
-      centre.y() + half + 1 >= grey.rows)
-    return false;
-  cv::getRectSubPix(grey, cv::Size(size, size), cv::Point2f(static_cast<float>(centre.x()),
-                                                             static_cast<float>(centre.y())),
-                    *patch, CV_32F);
-  return true;
-}
-
-double normalisedCrossCorrelation(const cv::Mat& a_in, const cv::Mat& b_in) {
-  CV_Assert(a_in.size() == b_in.size());
-  cv::Mat a, b;
-  a_in.convertTo(a, CV_64F);
-  b_in.convertTo(b, CV_64F);
-  const double n = static_cast<double>(a.total());
-  const double ma = cv::sum(a)[0] / n, mb = cv::sum(b)[0] / n;
-  a -= ma;
-  b -= mb;
-  const double saa = a.dot(a), sbb = b.dot(b);
-  if (saa <= 1e-12 || sbb <= 1e-12) return 0.0;
-  return a.dot(b) / std::sqrt(saa * sbb);
-}
-
 double patchStdDev(const cv::Mat& patch) {
   cv::Scalar mean, stddev;
   cv::meanStdDev(patch, mean, stddev);

@@ -1,27 +1,14 @@
 #include "core/run_recorder.h"
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
-#include <numeric>
 #include <regex>
 
 #include "core/error.h"
 #include "core/frames_csv.h"
+#include "core/statistics.h"
 
 namespace slamcmp {
-
-TimingStats timingStats(std::vector<double> ms) {
-  TimingStats s;
-  if (ms.empty()) return s;
-  std::sort(ms.begin(), ms.end());
-  const size_t n = ms.size();
-  s.median = n % 2 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
-  s.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
-  s.p99 = ms[std::min(n - 1, static_cast<size_t>(std::ceil(0.99 * n)) - 1)];
-  s.max = ms.back();
-  return s;
-}
 
 std::string reasonCategory(const std::string& reason) {
   static const std::regex number(R"([-+]?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?)");
@@ -104,7 +91,7 @@ void RunRecorder::flush() {
 }
 
 nlohmann::json RunRecorder::summary() const {
-  const TimingStats t = timingStats(ms_);
+  const Statistics t = computeStatistics(ms_);
   nlohmann::json j;
   j["backend"] = backend_;
   j["frames"] = frames_;

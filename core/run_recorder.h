@@ -16,11 +16,6 @@
 
 namespace slamcmp {
 
-struct TimingStats {
-  double median = 0, mean = 0, p99 = 0, max = 0;  // milliseconds
-};
-TimingStats timingStats(std::vector<double> ms);
-
 // A lost frame's reason with its numbers replaced by '#': summary.json counts lost frames by
 // category ("too few inliers (# of #)"), so the count stays small over any number of frames.
 std::string reasonCategory(const std::string& reason);
@@ -41,7 +36,6 @@ class RunRecorder {
   // flush(), then writes summary() with `extra` merged in to summary.json and returns what it wrote.
   nlohmann::json writeSummary(const nlohmann::json& extra);
 
-  const std::string& outDir() const { return out_dir_; }
   // trajectory.txt, complete up to the last recorded frame (the poses are not kept in memory, so
   // a long run's memory stays flat).
   std::string trajectoryPath() const { return out_dir_ + "/trajectory.txt"; }

@@ -1,6 +1,7 @@
 #pragma once
 // Image sequences: a TUM-style folder (rgb.txt), a plain folder of images, a video file, or an
-// EuRoC camera folder; with the camera, target and ground truth found beside them (SPEC section 3).
+// EuRoC camera folder (one file each: core/sequence_format.h); with the camera, target and ground
+// truth found beside them (SPEC section 3).
 #include <memory>
 #include <optional>
 #include <string>
@@ -44,7 +45,7 @@ class FrameSource {
 struct Sequence {
   std::string path;  // what the user named
   std::string name;  // short name for output folders
-  std::string kind;  // "tum", "images", "video", "euroc"
+  std::string kind;  // the SequenceFormat's name: "tum", "euroc", "images", "video"
   cv::Size image_size;
   double fps = 30;   // the video's rate, or from the median spacing of the frames' timestamps
   std::unique_ptr<FrameSource> frames;

@@ -1,11 +1,10 @@
 #include "cslam/cslam_tracker.h"
 
-#include <algorithm>
-
 #include <opencv2/video/tracking.hpp>
 
 #include "core/error.h"
 #include "core/options.h"
+#include "core/statistics.h"
 #include "geometry/essential_eight_point.h"
 #include "geometry/pose_refinement.h"
 #include "geometry/triangulation.h"
@@ -22,15 +21,6 @@ void CslamOptions::check() const {
   if (two_view_init_map_points < 1) throw OptionError("two_view_init_map_points", "must be >= 1");
   if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
 }
-
-namespace {
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTarget& target, cv::Size image_size,
                            const std::string& mode, const CslamOptions& options, bool want_overlay)

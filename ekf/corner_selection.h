@@ -7,7 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/geometry.h"
-#include "monoslam_ekf/monoslam_options.h"
+#include "ekf/ekf_options.h"
 
 namespace slamcmp {
 

@@ -8,7 +8,7 @@
 
 #include "core/camera.h"
 #include "ekf/ekf_state.h"
-#include "monoslam_ekf/monoslam_options.h"
+#include "ekf/ekf_options.h"
 
 namespace slamcmp {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 
 #include "ekf/ekf_state.h"
-#include "monoslam_ekf/monoslam_options.h"
+#include "ekf/ekf_options.h"
 
 namespace slamcmp {
 

@@ -3,6 +3,7 @@
 // 8-point algorithm, singular values forced to (1, 1, 0), the four (R, t) candidates and the
 // cheirality test. Convention: x_b^T E x_a = 0 with E = [t]x R, where (R, t) = T_b_a maps points
 // of camera a into camera b (p_b = R p_a + t) and x are undistorted normalised coordinates.
+// Pose direction (geometry/'s convention, camera from world, camera a being the world): T_b_a.
 #include <array>
 #include <vector>
 

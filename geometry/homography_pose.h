@@ -2,6 +2,8 @@
 // Camera pose from a planar target (thesis eqs. 3.1 to 3.17, Zhang 2000): a normalised DLT
 // homography H = K [r1 r2 t], then lambda = 1/|K^-1 h1|, r1 = lambda K^-1 h1, r2 = lambda K^-1 h2,
 // r3 = r1 x r2, t = lambda K^-1 h3, and the nearest rotation to [r1 r2 r3] by SVD.
+// Pose direction (geometry/'s convention, camera from world, the board being the world):
+// T_camera_board, p_camera = R p_board + t. A FrameResult's T_world_camera is its inverse.
 #include <vector>
 
 #include "core/geometry.h"

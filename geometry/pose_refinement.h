@@ -1,6 +1,7 @@
 #pragma once
 // Levenberg-Marquardt over the 6 pose parameters: minimises the reprojection error of known 3D
 // points, optionally with Huber weights (map points may hold outliers; board corners do not).
+// Pose direction (geometry/'s convention): T_camera_world, p_camera = R p_world + t.
 #include <vector>
 
 #include "core/geometry.h"

@@ -1,5 +1,7 @@
 #pragma once
 // 3D points from rays (thesis section 3.2.2, Algorithm 3.1, and a linear least-squares solution).
+// Pose direction: T_world_camera, as the name says (the one exception to geometry/'s camera from
+// world): a ray starts at the camera centre in the world, which is that pose's translation.
 #include <optional>
 #include <vector>
 

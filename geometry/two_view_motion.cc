@@ -1,9 +1,9 @@
 #include "geometry/two_view_motion.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "core/statistics.h"
 #include "geometry/essential_eight_point.h"
 
 namespace slamcmp {
@@ -89,12 +89,6 @@ SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector
     if (!improved) break;
   }
   return T;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

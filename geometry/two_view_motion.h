@@ -1,6 +1,8 @@
 #pragma once
 // Relative camera motion from two views (thesis section 3.3): the 8-point essential matrix inside
 // RANSAC, refined on its inliers, the (R, t) in front of both cameras, and a degeneracy check.
+// Pose direction (geometry/'s convention, camera from world, camera a being the world): T_b_a,
+// p_b = R p_a + t.
 #include <string>
 #include <vector>
 

@@ -2,9 +2,23 @@
 
 #include "core/chessboard.h"
 #include "core/error.h"
-#include "monoslam_ekf/board_pose.h"
+#include "geometry/homography_pose.h"
 
 namespace slamcmp {
+
+namespace {
+
+// The four outer inner corners' pixels (ChessboardTarget::outerCornersWorld order) among all the
+// inner corners (SPEC section 2 order).
+std::vector<Vec2> outerCornerPixels(const ChessboardTarget& target, const std::vector<cv::Point2f>& uv_distorted) {
+  const int c = target.cols, r = target.rows;
+  const int index[4] = {0, c - 1, (r - 1) * c + c - 1, (r - 1) * c};
+  std::vector<Vec2> out;
+  for (int i : index) out.emplace_back(uv_distorted[i].x, uv_distorted[i].y);
+  return out;
+}
+
+}  // namespace
 
 MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOptions& options)
     : options_(options),
@@ -51,7 +65,10 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   if (use_given_pose) {
     T_world_camera = *T_world_camera_init_;
   } else if (board_seen) {
-    T_world_camera = boardPose(camera_, target_, corners);
+    std::vector<Vec2> xy_normalised;
+    for (const Vec2& uv : start_corners_) xy_normalised.push_back(camera_.undistortPixel(uv));
+    T_world_camera = boardPose(target_.cornersWorld(), xy_normalised, 0.5 * (camera_.fx + camera_.fy), {})
+                         .T_camera_board.inverse();
   } else {
     *reason = "no board seen";
     return false;

@@ -18,7 +18,7 @@ cmake --build "$BUILD_DIR" -j"$(nproc)" --target slamcmp decode_only bench_stage
   > "$WORK/build.log" 2>&1 || { tail -n 60 "$WORK/build.log"; exit 1; }
 BENCH="$BUILD_DIR/benchmarks"
 TIMEFORMAT='%R %U %S'
-SLAMCMP="$BUILD_DIR/eval/slamcmp"
+SLAMCMP="$BUILD_DIR/eval/app/slamcmp"
 
 PIN=()
 if command -v taskset > /dev/null; then PIN=(taskset -c "$(($(nproc) - 1))"); fi
@@ -34,6 +34,9 @@ run_bench() {  # name
 run_bench bench_stages    # renders tv1 (120 frames) and board_leaves (160) into $TMPDIR if not cached
 run_bench bench_monoslam
 run_bench bench_tracking
+
+# The back-ends and modes as bench_tracking registers them from the registry: BM_Track/<backend>[/<mode>].
+mapfile -t METHODS < <("$BENCH/bench_tracking" --benchmark_list_tests | sed -n 's|^BM_Track/||p' | sed 's|/min_time:.*||')
 
 # Whole runs on the whole tv1 (337 frames) that BM_DecodeSequence decoded, each against a process
 # that only decodes the same files (decode_only), on one core and on all; the repetitions
@@ -53,7 +56,7 @@ for cores in 1 "$(nproc)"; do
   echo "timing whole runs on $cores core(s) (${REPS} repetitions)"
   for ((r = 0; r < REPS; ++r)); do
     timed decode_only "$cores" "${pin[@]}" "$BENCH/decode_only" "$SEQUENCE"
-    for what in cslam/combined cslam/calibration cslam/two_view monoslam; do
+    for what in "${METHODS[@]}"; do
       mode_args=()
       [[ $what == */* ]] && mode_args=(--mode "${what#*/}")
       timed "$what" "$cores" "${pin[@]}" "$SLAMCMP" run --backend "${what%%/*}" "${mode_args[@]}" \
@@ -69,6 +72,6 @@ MACHINE="$(lscpu | sed -n 's/^Model name: *//p' | head -n 1), $(nproc) cores; lo
 $(cut -d' ' -f1-3 /proc/loadavg) after (other work on the machine inflates every figure); $(date -u +%Y-%m-%d)."
 mkdir -p docs
 "$BENCH/bench_report" --stages "$WORK/bench_stages.json" --monoslam "$WORK/bench_monoslam.json" \
-  --tracking "$WORK/bench_tracking.json" --runs "$WORK/runs.tsv" --preset tv1 --machine "$MACHINE" \
+  --tracking "$WORK/bench_tracking.json" --runs "$WORK/runs.tsv" --targets benchmarks/targets.txt --preset tv1 --machine "$MACHINE" \
   --out docs/benchmarks.md > /dev/null
 echo "wrote docs/benchmarks.md"

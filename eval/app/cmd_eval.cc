@@ -25,7 +25,7 @@ struct EvalRequest {
   bool json = false;
 };
 
-void printRow(const char* name, const ErrorStatistics& s) {
+void printRow(const char* name, const Statistics& s) {
   std::printf("%-15s %11.6f %11.6f %11.6f %11.6f %11.6f %11.6f\n", name, s.rmse, s.mean, s.median,
               s.std, s.min, s.max);
 }
@@ -47,9 +47,10 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
 }
 
 void printMapTable(const MapErrorStats& s, const EvalRequest& request) {
-  std::printf("map %s: %d points against %s\n", request.map_path.c_str(), s.points, request.scene_path.c_str());
+  std::printf("map %s: %d points against %s\n", request.map_path.c_str(), s.distance.count, request.scene_path.c_str());
   std::printf("%-15s %11s %11s %11s %11s\n", "", "rmse", "median", "max", "within 1cm");
-  std::printf("%-15s %11.6f %11.6f %11.6f %11.6f\n", "map error (m)", s.rmse, s.median, s.max, s.within_1cm);
+  std::printf("%-15s %11.6f %11.6f %11.6f %11.6f\n", "map error (m)", s.distance.rmse, s.distance.median,
+              s.distance.max, s.within_1cm);
 }
 
 // The statistics and, in the map's point order, each point's error (metres).

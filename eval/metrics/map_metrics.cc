@@ -8,25 +8,12 @@
 
 namespace slamcmp {
 
-MapErrorStats mapErrorStats(std::vector<double> errors) {
+MapErrorStats mapErrorStats(const std::vector<double>& errors) {
   MapErrorStats s;
-  s.points = static_cast<int>(errors.size());
-  if (errors.empty()) {
-    s.rmse = s.median = s.max = s.within_1cm = NAN;
-    return s;
-  }
-  std::sort(errors.begin(), errors.end());
-  const size_t n = errors.size();
-  double squares = 0;
-  int within = 0;
-  for (double e : errors) {
-    squares += e * e;
-    within += e <= kMapInlierDistance;
-  }
-  s.rmse = std::sqrt(squares / n);
-  s.median = n % 2 ? errors[n / 2] : 0.5 * (errors[n / 2 - 1] + errors[n / 2]);
-  s.max = errors.back();
-  s.within_1cm = static_cast<double>(within) / n;
+  s.distance = computeStatistics(errors);
+  if (errors.empty()) return s;
+  const auto within = std::count_if(errors.begin(), errors.end(), [](double e) { return e <= kMapInlierDistance; });
+  s.within_1cm = static_cast<double>(within) / static_cast<double>(errors.size());
   return s;
 }
 
@@ -47,11 +34,11 @@ MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry&
 
 nlohmann::json mapStatsToJson(const MapErrorStats& s) {
   auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  return {{"points", s.points},
+  return {{"points", s.distance.count},
           {"known", s.known},
-          {"rmse", number(s.rmse)},
-          {"median", number(s.median)},
-          {"max", number(s.max)},
+          {"rmse", number(s.distance.rmse)},
+          {"median", number(s.distance.median)},
+          {"max", number(s.distance.max)},
           {"within_1cm", number(s.within_1cm)}};
 }
 

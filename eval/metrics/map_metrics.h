@@ -1,11 +1,13 @@
 #pragma once
 // Map accuracy on synthetic sequences: the distance of every map point to the nearest true scene
-// surface (scene.yaml), summarised as rmse, median, max and the share within 1 cm.
+// surface (scene.yaml), summarised as their statistics and the share within 1 cm.
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/statistics.h"
 #include "core/tracker.h"
 #include "datasets/scene_yaml.h"
 
@@ -14,12 +16,11 @@ namespace slamcmp {
 constexpr double kMapInlierDistance = 0.01;  // metres: "within 1 cm"
 
 struct MapErrorStats {
-  int points = 0;  // estimated points scored
-  int known = 0;   // points given to the back-end exactly (sigma 0, e.g. EKF's board corners): not scored
-  double rmse = 0, median = 0, max = 0;  // metres; NaN when there are no points
-  double within_1cm = 0;                  // share of points within kMapInlierDistance, in [0, 1]
+  Statistics distance;     // metres, over the estimated points scored (count: how many)
+  int known = 0;           // points given to the back-end exactly (sigma 0, e.g. EKF's board corners): not scored
+  double within_1cm = NAN;  // share of the scored points within kMapInlierDistance, in [0, 1]; NaN without any
 };
-MapErrorStats mapErrorStats(std::vector<double> errors);
+MapErrorStats mapErrorStats(const std::vector<double>& errors);
 
 struct MapEvaluation {
   MapErrorStats stats;

@@ -1,6 +1,5 @@
 #include "eval/metrics/trajectory_metrics.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -11,19 +10,13 @@ namespace {
 
 constexpr double kDegreesPerRadian = 180.0 / M_PI;
 
-double rmsOf(const std::vector<double>& x) {
-  double sum = 0.0;
-  for (double v : x) sum += v * v;
-  return std::sqrt(sum / static_cast<double>(x.size()));
-}
-
 Vec3 axisRms(const std::vector<Vec3>& v) {
   Vec3 sum = Vec3::Zero();
   for (const Vec3& x : v) sum += x.cwiseProduct(x);
   return (sum / static_cast<double>(v.size())).cwiseSqrt();
 }
 
-nlohmann::json statisticsToJson(const ErrorStatistics& s) {
+nlohmann::json statisticsToJson(const Statistics& s) {
   return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median},
           {"std", s.std},   {"min", s.min},   {"max", s.max}};
 }
@@ -39,25 +32,6 @@ void EvalOptions::check() const {
     throw InputError("--max-diff", "must be a finite number of seconds >= 0");
   if (delta < 1)
     throw InputError("--delta", "must be at least 1 frame, got " + std::to_string(delta));
-}
-
-ErrorStatistics computeStatistics(const std::vector<double>& errors) {
-  ErrorStatistics s;
-  const double n = static_cast<double>(errors.size());
-  double sum = 0.0;
-  for (double e : errors) sum += e;
-  s.mean = sum / n;
-  double squared_deviation = 0.0;
-  for (double e : errors) squared_deviation += (e - s.mean) * (e - s.mean);
-  s.std = std::sqrt(squared_deviation / n);
-  s.rmse = rmsOf(errors);
-  std::vector<double> sorted = errors;
-  std::sort(sorted.begin(), sorted.end());
-  const size_t mid = sorted.size() / 2;
-  s.median = sorted.size() % 2 ? sorted[mid] : 0.5 * (sorted[mid - 1] + sorted[mid]);
-  s.min = sorted.front();
-  s.max = sorted.back();
-  return s;
 }
 
 TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,

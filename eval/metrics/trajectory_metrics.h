@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/statistics.h"
 #include "core/trajectory.h"
 #include "eval/metrics/align_umeyama.h"
 #include "eval/metrics/associate.h"
@@ -27,13 +28,6 @@ struct EvalOptions {
   void check() const;  // throws InputError naming the option
 };
 
-// numpy's statistics of a sample: population std (ddof 0), median the mean of the two middle
-// values for an even count.
-struct ErrorStatistics {
-  double rmse = 0, mean = 0, median = 0, std = 0, min = 0, max = 0;
-};
-ErrorStatistics computeStatistics(const std::vector<double>& errors);  // errors not empty
-
 struct TrajectoryEvaluation {
   PosePairs pairs;            // matched poses, in the order of the error arrays below
   std::string align;          // none | se3 | sim3
@@ -41,13 +35,13 @@ struct TrajectoryEvaluation {
   // Per matched pose: |t_gt - t_est| (m) and the angle of R_gt^T R_est (degrees), after alignment.
   std::vector<double> ate_trans, ate_rot_deg;
   Vec3 ate_axis_rmse = Vec3::Zero();  // m, rms of t_est - t_gt along x, y, z
-  ErrorStatistics ate_trans_stats, ate_rot_deg_stats;
+  Statistics ate_trans_stats, ate_rot_deg_stats;
   // Per pair (i, i + delta), i = 0, delta, 2 delta, ... over the matched poses: translation norm
   // (m) and angle (degrees) of E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j).
   int rpe_delta = 1;
   std::vector<double> rpe_trans, rpe_rot_deg;
   Vec3 rpe_axis_rmse = Vec3::Zero();  // m, rms of E's translation along x, y, z
-  ErrorStatistics rpe_trans_stats, rpe_rot_deg_stats;
+  Statistics rpe_trans_stats, rpe_rot_deg_stats;
 };
 
 // Associates, aligns and measures. Throws InputError when no pose pairs are found, when an

@@ -24,12 +24,9 @@ class OverlayWriter {
   // One drawn frame (BGR, image_size) and what was drawn on it. Throws InputError if writing fails.
   void write(int frame_index, const cv::Mat& image, const std::vector<DrawnPrimitive>& drawn);
 
-  // overlay.csv in the PNG folder, or <FILE>.csv beside the video.
-  const std::string& csvPath() const { return csv_path_; }
-
  private:
   std::string path_;
-  std::string csv_path_;
+  std::string csv_path_;  // overlay.csv in the PNG folder, or <FILE>.csv beside the video
   std::unique_ptr<VideoWriter> video_;  // null when writing PNGs
   std::ofstream csv_;
 };

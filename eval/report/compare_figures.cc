@@ -65,8 +65,8 @@ Figure mapFigure(const SequenceInfo& seq, const std::vector<RunResult>& runs) {
     for (int v = 0; v < 2; ++v) {
       const int a = views[v].first, b = views[v].second;
       PlotPanel p;
-      p.title = r.method.label() + ": " + names[v] + ", " + std::to_string(r.map_errors->stats.points) +
-                " points, median " + fmt(r.map_errors->stats.median * 1e3) + " mm";
+      p.title = r.method.label() + ": " + names[v] + ", " + std::to_string(r.map_errors->stats.distance.count) +
+                " points, median " + fmt(r.map_errors->stats.distance.median * 1e3) + " mm";
       p.xlabel = axis[a];
       p.ylabel = axis[b];
       p.equal_axes = true;

@@ -146,7 +146,8 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
           << "," << med << "," << p99 << ",";
       if (r.map_errors) {
         const MapErrorStats& m = r.map_errors->stats;
-        acc << m.points << "," << m.median << "," << m.rmse << "," << m.max << "," << m.within_1cm << "\n";
+        acc << m.distance.count << "," << m.distance.median << "," << m.distance.rmse << "," << m.distance.max << ","
+            << m.within_1cm << "\n";
       } else {
         acc << ",,,,\n";
       }
@@ -171,9 +172,9 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
       for (const auto& r : results[s]) {
         if (!r.map_errors) continue;
         const MapErrorStats& m = r.map_errors->stats;
-        md << "| " << seqs[s].name << " | " << r.method.label() << " | " << m.points << " | " << fmt(m.median * 1e3)
-           << " | " << fmt(m.rmse * 1e3) << " | " << fmt(m.max * 1e3) << " | "
-           << (m.points ? fmt(100 * m.within_1cm, 0) + "%" : "-") << " |\n";
+        md << "| " << seqs[s].name << " | " << r.method.label() << " | " << m.distance.count << " | "
+           << fmt(m.distance.median * 1e3) << " | " << fmt(m.distance.rmse * 1e3) << " | " << fmt(m.distance.max * 1e3)
+           << " | " << (m.distance.count ? fmt(100 * m.within_1cm, 0) + "%" : "-") << " |\n";
       }
   }
 

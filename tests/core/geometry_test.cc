@@ -148,28 +148,5 @@ TEST(Geometry, SE3ComposeAndInverse) {
   EXPECT_LT((T_world_camera * Vec3(1, 0, 0) - Vec3(1, 3, 3)).norm(), 1e-15);
 }
 
-TEST(Geometry, IntegrateConstantAngularVelocityMatchesClosedForm) {
-  std::mt19937 rng(11);
-  for (int k = 0; k < 20; ++k) {
-    const Quat q0 = quatFromRotvec(1.5 * randomUnit(rng));
-    const Vec3 w = 2.0 * randomUnit(rng);  // rad/s, body frame
-    const double dt = 1.0 / 30.0;
-    const int steps = 90;
-    Quat q = q0;
-    for (int s = 0; s < steps; ++s) q = integrateAngularVelocity(q, w, dt);
-    // Constant body rate: q(t) = q0 * exp(w t), exp from Eigen's angle-axis.
-    const double t = steps * dt;
-    const Quat expected = q0 * Quat(Eigen::AngleAxisd(w.norm() * t, w.normalized()));
-    EXPECT_NEAR(std::abs(q.dot(expected)), 1.0, 1e-12);
-    EXPECT_NEAR(q.norm(), 1.0, 1e-14);
-    // Body frame, not world frame: exp(w t) * q0 differs unless w is along q0's axis.
-    const Quat world_side = Quat(Eigen::AngleAxisd(w.norm() * t, w.normalized())) * q0;
-    EXPECT_LT(std::abs(q.dot(world_side)), 1.0 - 1e-6);
-  }
-  // Zero rate leaves the orientation unchanged.
-  const Quat q = quatFromRotvec(Vec3(0.1, 0.2, 0.3));
-  EXPECT_NEAR(std::abs(integrateAngularVelocity(q, Vec3::Zero(), 0.1).dot(q)), 1.0, 1e-15);
-}
-
 }  // namespace
 }  // namespace slamcmp

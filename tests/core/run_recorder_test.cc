@@ -213,17 +213,7 @@ TEST(RunRecorder, WithoutPosesTheTrajectoryHoldsOnlyItsHeader) {
   EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 3u);
 }
 
-TEST(RunRecorder, TimingStatsOfKnownSamples) {
-  std::vector<double> ms;
-  for (int i = 1; i <= 200; ++i) ms.push_back(i);
-  const TimingStats t = timingStats(ms);
-  EXPECT_DOUBLE_EQ(t.median, 100.5);
-  EXPECT_DOUBLE_EQ(t.mean, 100.5);
-  EXPECT_DOUBLE_EQ(t.p99, 198.0);
-  EXPECT_DOUBLE_EQ(t.max, 200.0);
-  const TimingStats none = timingStats({});
-  EXPECT_EQ(none.max, 0.0);
-}
+
 
 TEST(RunRecorder, UnwritableOutputIsAnInputError) {
   test::TempDir dir;

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/image.h"
+#include "ekf/patch_warp.h"
 #include "tests/ekf/plane_render.h"
 
 namespace slamcmp {
@@ -13,6 +13,12 @@ cv::Mat texturedImage() {
   return test::renderPlane(camera, SE3::fromRotvec(Vec3::Zero(), Vec3(0, 0, -1.0)), 0.0);
 }
 
+// The 11x11 template centred on uv (sub-pixel), as the EKF cuts one where it first sees a feature.
+bool templateAt(const cv::Mat& image, const Vec2& uv, cv::Mat* templ) {
+  PatchSource source;
+  return makePatchSource(image, uv, 15, SE3(), &source) && sourceTemplate(source, 11, templ);
+}
+
 // Parabola interpolation of a correlation peak is biased towards whole pixels ("pixel locking") and
 // by the peak's asymmetry: within 0.15 px at a whole pixel, 0.4 px between them (the 1 px
 // measurement noise covers it).
@@ -21,7 +27,7 @@ TEST(PatchSearch, FindsATemplateToSubPixelAccuracy) {
   const SearchEllipse e{Vec2(262, 170), Mat2::Identity() * 100};  // 10 px sigma, 30 px gate
   for (const auto& [truth, tolerance] : {std::pair{Vec2(250, 181), 0.15}, std::pair{Vec2(250.3, 180.6), 0.4}}) {
     cv::Mat templ;
-    ASSERT_TRUE(extractPatch(image, truth, 11, &templ));
+    ASSERT_TRUE(templateAt(image, truth, &templ));
     const std::vector<PatchMatch> matches = searchEllipses(image, templ, {e}, 3.0, 0.8);
     ASSERT_FALSE(matches.empty());
     EXPECT_LT((matches.front().uv - truth).norm(), tolerance) << matches.front().uv.transpose();
@@ -32,7 +38,7 @@ TEST(PatchSearch, FindsATemplateToSubPixelAccuracy) {
 TEST(PatchSearch, LooksOnlyInsideTheEllipse) {
   const cv::Mat image = texturedImage();
   cv::Mat templ;
-  ASSERT_TRUE(extractPatch(image, Vec2(250, 180), 11, &templ));
+  ASSERT_TRUE(templateAt(image, Vec2(250, 180), &templ));
   // The true position is 40 px away along x; the ellipse is narrow along x.
   Mat2 S;
   S << 25, 0, 0, 2500;
@@ -43,7 +49,7 @@ TEST(PatchSearch, LooksOnlyInsideTheEllipse) {
 TEST(PatchSearch, FlatImageGivesNoMatch) {
   const cv::Mat flat(480, 640, CV_8U, cv::Scalar(90));
   cv::Mat templ;
-  ASSERT_TRUE(extractPatch(texturedImage(), Vec2(250, 180), 11, &templ));
+  ASSERT_TRUE(templateAt(texturedImage(), Vec2(250, 180), &templ));
   EXPECT_TRUE(searchEllipses(flat, templ, {{Vec2(250, 180), Mat2::Identity() * 100}}, 3.0, 0.8).empty());
 }
 

@@ -26,7 +26,7 @@ void expectAgrees(double ours, double evo, const std::string& what) {
   if (evo != 0.0) worst_relative = std::max(worst_relative, std::abs(ours - evo) / std::abs(evo));
 }
 
-void expectStatisticsAgree(const ErrorStatistics& s, const nlohmann::json& evo,
+void expectStatisticsAgree(const Statistics& s, const nlohmann::json& evo,
                            const std::string& what) {
   expectAgrees(s.rmse, evo["rmse"], what + " rmse");
   expectAgrees(s.mean, evo["mean"], what + " mean");

@@ -15,19 +15,19 @@ namespace {
 
 TEST(MapMetrics, StatisticsHandComputed) {
   const MapErrorStats s = mapErrorStats({0.002, 0.02, 0.004, 0.006});
-  EXPECT_EQ(s.points, 4);
-  EXPECT_NEAR(s.median, 0.005, 1e-15);
-  EXPECT_NEAR(s.max, 0.02, 1e-15);
-  EXPECT_NEAR(s.rmse, std::sqrt((4 + 400 + 16 + 36) * 1e-6 / 4), 1e-15);
+  EXPECT_EQ(s.distance.count, 4);
+  EXPECT_NEAR(s.distance.median, 0.005, 1e-15);
+  EXPECT_NEAR(s.distance.max, 0.02, 1e-15);
+  EXPECT_NEAR(s.distance.rmse, std::sqrt((4 + 400 + 16 + 36) * 1e-6 / 4), 1e-15);
   EXPECT_NEAR(s.within_1cm, 0.75, 1e-15);
-  EXPECT_NEAR(mapErrorStats({0.01, 0.03, 0.02}).median, 0.02, 1e-15);
+  EXPECT_NEAR(mapErrorStats({0.01, 0.03, 0.02}).distance.median, 0.02, 1e-15);
   EXPECT_NEAR(mapErrorStats({0.01, 0.03, 0.02}).within_1cm, 1.0 / 3, 1e-15);  // 1 cm itself is within
 }
 
 TEST(MapMetrics, EmptyMapHasNoStatistics) {
   const MapErrorStats s = mapErrorStats({});
-  EXPECT_EQ(s.points, 0);
-  EXPECT_TRUE(std::isnan(s.median));
+  EXPECT_EQ(s.distance.count, 0);
+  EXPECT_TRUE(std::isnan(s.distance.median));
   const nlohmann::json j = mapStatsToJson(s);
   EXPECT_EQ(j["points"], 0);
   for (const char* key : {"rmse", "median", "max", "within_1cm"}) EXPECT_TRUE(j[key].is_null()) << key;
@@ -58,8 +58,8 @@ TEST(MapMetrics, RoomSceneThroughSceneYaml) {
     EXPECT_NEAR(e.errors[i], 0.005, 1e-12) << i;
     EXPECT_EQ(e.nearest[i], 0) << "the board";
   }
-  EXPECT_EQ(e.stats.points, static_cast<int>(map.size()));
-  EXPECT_NEAR(e.stats.max, 0.005, 1e-12);
+  EXPECT_EQ(e.stats.distance.count, static_cast<int>(map.size()));
+  EXPECT_NEAR(e.stats.distance.max, 0.005, 1e-12);
   EXPECT_NEAR(e.stats.within_1cm, 1.0, 1e-15);
   const nlohmann::json j = mapStatsToJson(e.stats);
   EXPECT_NEAR(j["max"].get<double>(), 0.005, 1e-12);
@@ -74,9 +74,9 @@ TEST(MapMetrics, KnownPointsAreDrawnButNotScored) {
   const MapEvaluation e = evaluateMap(map, scene);
   ASSERT_EQ(e.errors.size(), 3u);
   EXPECT_NEAR(e.errors[0], 0.0, 1e-15);
-  EXPECT_EQ(e.stats.points, 2);
+  EXPECT_EQ(e.stats.distance.count, 2);
   EXPECT_EQ(e.stats.known, 1);
-  EXPECT_NEAR(e.stats.median, 0.003, 1e-12);
+  EXPECT_NEAR(e.stats.distance.median, 0.003, 1e-12);
   EXPECT_EQ(mapStatsToJson(e.stats)["known"].get<int>(), 1);
 }
 

@@ -1,0 +1,22 @@
+#pragma once
+// The one summary of a sample that every file and table reports (run timings, trajectory and map
+// errors), with numpy's conventions so that the trajectory figures agree with evo's.
+#include <vector>
+
+namespace slamcmp {
+
+struct Statistics {
+  int count = 0;
+  // In the sample's unit. median: the middle value, or the mean of the two middle values for an
+  // even count (numpy.median); std: population (ddof 0); rmse: the root of the mean square;
+  // p99: the nearest-rank 99th percentile (the smallest value with 99 % of the sample at or below).
+  double mean = 0, median = 0, std = 0, rmse = 0, min = 0, max = 0, p99 = 0;
+};
+
+// An empty sample has count 0 and NaN statistics: no number stands for what was not measured.
+Statistics computeStatistics(std::vector<double> values);
+
+// The median as Statistics defines it; NaN for an empty sample.
+double median(std::vector<double> values);
+
+}  // namespace slamcmp
