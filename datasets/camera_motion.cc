@@ -72,7 +72,7 @@ const std::vector<MotionPreset>& motionPresets() {
       {"board_leaves", 300,
        "pans 55 degrees away from the board and back: no board corner in view for about 6 s"},
       {"wall_turn", 300,
-       "turns 90 degrees to the right-hand wall and moves along it, 12 s without the board, then turns back"},
+       "turns 90 degrees to the right-hand wall and moves along it, about 11 s without the board, then turns back"},
       {"board_partial", 240,
        "moves right, then up, facing the wall: up to half the board leaves the image by its left, then bottom, edge"},
       {"roll_distortion", 200,
@@ -139,10 +139,11 @@ SE3 CameraMotion::nominal(double t) const {
     return lookAt(c + offset, c + Vec3(0.4 * offset.x(), 0, 0));
   }
   if (preset_ == "wall_turn") {
-    // A 30 s cycle: the board 6 s, a 3 s turn of 90 degrees to the right-hand wall (x = 2 m), 9 s
-    // along it (0.25 m to the right and back), a 3 s turn back, the board 9 s.
+    // A 30 s cycle: the board 6 s, a 5 s turn of 90 degrees to the right-hand wall (x = 2 m; at
+    // most 2.7 degrees a frame), 5 s along it (0.25 m to the right and back), a 5 s turn back, the
+    // board 9 s.
     const double s = t - 30.0 * std::floor(t / 30.0);
-    const double turned = smoothstep((s - 6.0) / 3.0) - smoothstep((s - 18.0) / 3.0);
+    const double turned = smoothstep((s - 6.0) / 5.0) - smoothstep((s - 16.0) / 5.0);
     const double along = 0.25 * std::sin(M_PI * std::clamp((s - 8.0) / 11.0, 0.0, 1.0));
     const Vec3 p = c + Vec3(0.04 * std::sin(kTwoPi * t / 12.0) + along, 0.02 * std::sin(kTwoPi * t / 9.0),
                             -0.85 + 0.03 * std::sin(kTwoPi * t / 7.0));

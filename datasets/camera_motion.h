@@ -1,7 +1,7 @@
 #pragma once
 // The synthetic camera and the motions of the presets (SPEC section 7): tv1 along X, tv2 along Y,
 // tv3 along Z, tv4 a rectangle in the XZ plane, board_leaves a pan away from the board and back,
-// wall_turn a turn to another wall for 12 s, board_partial a sweep that takes up to half the board
+// wall_turn a turn to another wall for about 11 s, board_partial a sweep that takes up to half the board
 // out of the image, roll_distortion up to 110 degrees of roll through a strongly distorting lens;
 // all with smooth handheld jitter.
 #include <cstdint>

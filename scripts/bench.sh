@@ -18,7 +18,7 @@ cmake --build "$BUILD_DIR" -j"$(nproc)" --target slamcmp decode_only bench_stage
   > "$WORK/build.log" 2>&1 || { tail -n 60 "$WORK/build.log"; exit 1; }
 BENCH="$BUILD_DIR/benchmarks"
 TIMEFORMAT='%R %U %S'
-SLAMCMP="$BUILD_DIR/eval/app/slamcmp"
+SLAMCMP="$BUILD_DIR/eval/slamcmp"
 
 PIN=()
 if command -v taskset > /dev/null; then PIN=(taskset -c "$(($(nproc) - 1))"); fi

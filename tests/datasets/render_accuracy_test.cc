@@ -5,6 +5,8 @@
 #include <memory>
 #include <vector>
 
+#include <map>
+
 #include <gtest/gtest.h>
 
 #include "core/chessboard.h"
@@ -62,9 +64,13 @@ TEST_F(Rendered, DetectedCornersMatchGroundTruthProjection) {
   std::vector<double> all;
   for (const MotionPreset& preset : motionPresets()) {
     const CameraMotion motion(preset.name, 1);
-    // board_leaves: frames with the board in view (it is away from about 9 to 17 s).
-    const std::vector<int> frames = preset.name == "board_leaves"
-                                        ? std::vector<int>{0, 60, 240}
+    // Frames with the whole board in view: board_leaves is away from about 9 to 17 s, wall_turn
+    // from 8 to 19 s; board_partial has all of it in view at the start of each half sweep.
+    const std::map<std::string, std::vector<int>> board_in_view = {
+        {"board_leaves", {0, 60, 240}}, {"wall_turn", {0, 40, 250}}, {"board_partial", {0, 60, 120}}};
+    const auto listed = board_in_view.find(preset.name);
+    const std::vector<int> frames = listed != board_in_view.end()
+                                        ? listed->second
                                         : std::vector<int>{0, preset.frames / 5, preset.frames / 2 + 7};
     for (int frame : frames) {
       const SE3 T = motion.T_world_camera(frame / kSyntheticFps);
