@@ -57,21 +57,28 @@ void writeText(const std::string& path, const std::string& text) {
   out << text;
 }
 
-void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
-                                  const Eigen::VectorXd& x, const Eigen::MatrixXd& J, double tol,
-                                  double step) {
-  const Eigen::VectorXd f0 = f(x);
-  ASSERT_EQ(J.rows(), f0.size());
-  ASSERT_EQ(J.cols(), x.size());
+Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                const Eigen::VectorXd& x, double step) {
+  Eigen::MatrixXd J(f(x).size(), x.size());
   for (int c = 0; c < x.size(); ++c) {
     Eigen::VectorXd xp = x, xm = x;
     xp[c] += step;
     xm[c] -= step;
-    const Eigen::VectorXd column = (f(xp) - f(xm)) / (2 * step);
-    for (int r = 0; r < f0.size(); ++r)
-      EXPECT_NEAR(J(r, c), column[r], tol * std::max(1.0, std::abs(column[r])))
-          << "d f[" << r << "] / d x[" << c << "]";
+    J.col(c) = (f(xp) - f(xm)) / (2 * step);
   }
+  return J;
+}
+
+void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                  const Eigen::VectorXd& x, const Eigen::MatrixXd& J, double tol,
+                                  double step) {
+  const Eigen::MatrixXd numeric = numericJacobian(f, x, step);
+  ASSERT_EQ(J.rows(), numeric.rows());
+  ASSERT_EQ(J.cols(), numeric.cols());
+  for (int c = 0; c < numeric.cols(); ++c)
+    for (int r = 0; r < numeric.rows(); ++r)
+      EXPECT_NEAR(J(r, c), numeric(r, c), tol * std::max(1.0, std::abs(numeric(r, c))))
+          << "d f[" << r << "] / d x[" << c << "]";
 }
 
 std::vector<std::string> readLines(const std::string& path) {

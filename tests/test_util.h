@@ -47,6 +47,10 @@ void writeText(const std::string& path, const std::string& text);
 // The lines of a text file (none if it cannot be read).
 std::vector<std::string> readLines(const std::string& path);
 
+// Central differences of f: R^n -> R^m at x (m x n), each column from f(x +- step e_c).
+Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                const Eigen::VectorXd& x, double step = 1e-6);
+
 // Central differences of f: R^n -> R^m at x, compared with the analytic J entry by entry:
 // |J - J_numeric| <= tol * max(1, |J_numeric|).
 void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,

@@ -1,0 +1,138 @@
+// tracking/board_corner_tracker on rendered tv1 frames against the ground truth: the full search
+// finds the board, Lucas-Kanade tracks its corners into the next frames (confirmed, not searched
+// again), every corner where the true pose projects it, and a frame without the board has none.
+#include "tracking/board_corner_tracker.h"
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <opencv2/video/tracking.hpp>
+
+#include "core/chessboard.h"
+#include "core/sequence.h"
+#include "datasets/synth_sequence.h"
+#include "tests/test_util.h"
+#include "tests/tracking/blob_texture.h"
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+
+const cv::Size kWindow(9, 9);  // cslam's default Lucas-Kanade window and levels
+constexpr int kLevels = 3;
+constexpr int kFrames = 6;
+
+struct PosedFrame {
+  cv::Mat grey;
+  SE3 T_world_camera;  // ground truth
+};
+
+class BoardCornerTrackerTv1 : public ::testing::Test {
+ protected:
+  // The first frames of tv1 (rendered with the default anti-aliasing, as the accuracy tests) and
+  // their true poses, rendered once for the suite.
+  static void SetUpTestSuite() {
+    TempDir dir;
+    SynthOptions options;
+    options.preset = "tv1";
+    options.frames = kFrames;
+    writeSyntheticSequence(options, dir.file("tv1"));
+    Sequence seq = openSequence(dir.file("tv1"));
+    ASSERT_TRUE(seq.camera && seq.target && seq.groundtruth);
+    camera_ = std::make_unique<CameraModel>(*seq.camera);
+    target_ = std::make_unique<ChessboardTarget>(*seq.target);
+    frames_ = std::make_unique<std::vector<PosedFrame>>();
+    for (Frame f; seq.frames->next(&f);) {
+      for (const StampedPose& p : *seq.groundtruth)
+        if (std::abs(p.timestamp - f.timestamp) < 1e-6) frames_->push_back({f.grey, p.T_world_camera});
+    }
+    ASSERT_EQ(static_cast<int>(frames_->size()), kFrames);
+  }
+  static void TearDownTestSuite() {
+    frames_.reset();
+    target_.reset();
+    camera_.reset();
+  }
+
+  static std::vector<cv::Mat> pyramid(const cv::Mat& grey) {
+    std::vector<cv::Mat> p;
+    cv::buildOpticalFlowPyramid(grey, p, kWindow, kLevels);
+    return p;
+  }
+
+  // RMS distance (px) of corners to the projection of the true corners.
+  static double rmsToTruth(const std::vector<cv::Point2f>& uv, const SE3& T_world_camera) {
+    const std::vector<cv::Point2f> truth = projectBoardCorners(*camera_, *target_, T_world_camera);
+    EXPECT_EQ(uv.size(), truth.size());
+    if (uv.size() != truth.size() || uv.empty()) return 1e9;
+    double sum = 0;
+    for (size_t k = 0; k < uv.size(); ++k) sum += std::pow(cv::norm(uv[k] - truth[k]), 2);
+    return std::sqrt(sum / static_cast<double>(uv.size()));
+  }
+
+  static std::unique_ptr<CameraModel> camera_;
+  static std::unique_ptr<ChessboardTarget> target_;
+  static std::unique_ptr<std::vector<PosedFrame>> frames_;
+};
+std::unique_ptr<CameraModel> BoardCornerTrackerTv1::camera_;
+std::unique_ptr<ChessboardTarget> BoardCornerTrackerTv1::target_;
+std::unique_ptr<std::vector<PosedFrame>> BoardCornerTrackerTv1::frames_;
+
+// Frame 0 by the full search, frames 1..5 tracked: every corner in SPEC section 2's order within
+// 0.3 px RMS of the true pose's projection (the renderer's corners agree with the camera model to
+// 0.1 px RMS, datasets/render_accuracy_test; sub-pixel refinement adds a few hundredths).
+// Measured: 0.05 px RMS on every frame, searched or tracked.
+TEST_F(BoardCornerTrackerTv1, FindsThenTracksTheBoardWhereTheTruePoseProjectsIt) {
+  BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
+  std::vector<cv::Mat> previous;
+  for (int k = 0; k < kFrames; ++k) {
+    const PosedFrame& frame = (*frames_)[k];
+    const std::vector<cv::Mat> current = pyramid(frame.grey);
+    const auto corners = tracker.find(frame.grey, previous, current, kWindow, kLevels, camera_.get());
+    ASSERT_TRUE(corners.has_value()) << "frame " << k;
+    ASSERT_EQ(static_cast<int>(corners->size()), target_->numCorners()) << "frame " << k;
+    EXPECT_EQ(tracker.lastWasTracked(), k > 0) << "frame " << k;
+    EXPECT_LT(rmsToTruth(*corners, frame.T_world_camera), 0.3) << "frame " << k;
+    previous = current;
+  }
+}
+
+// Without a camera the tracker cannot confirm tracked corners: every frame is a full search,
+// still within 0.3 px RMS of the truth.
+TEST_F(BoardCornerTrackerTv1, WithoutACameraEveryFrameIsAFullSearch) {
+  BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
+  std::vector<cv::Mat> previous;
+  for (int k = 0; k < 3; ++k) {
+    const PosedFrame& frame = (*frames_)[k];
+    const std::vector<cv::Mat> current = pyramid(frame.grey);
+    const auto corners = tracker.find(frame.grey, previous, current, kWindow, kLevels, nullptr);
+    ASSERT_TRUE(corners.has_value()) << "frame " << k;
+    EXPECT_FALSE(tracker.lastWasTracked()) << "frame " << k;
+    EXPECT_LT(rmsToTruth(*corners, frame.T_world_camera), 0.3) << "frame " << k;
+    previous = current;
+  }
+}
+
+// A textured frame without a board, right after a tracked one (tracking must not confirm a grid
+// on it, and the full search finds nothing), and on a fresh tracker: no board.
+TEST_F(BoardCornerTrackerTv1, FrameWithoutTheBoardHasNone) {
+  const test::BlobTexture texture(11, (*frames_)[0].grey.size());
+  const cv::Mat no_board = texture.image((*frames_)[0].grey.size());
+
+  BoardCornerTracker fresh(*target_, BoardCornerTrackerOptions{});
+  EXPECT_FALSE(fresh.find(no_board, {}, pyramid(no_board), kWindow, kLevels, camera_.get()).has_value());
+  EXPECT_FALSE(fresh.lastWasTracked());
+
+  BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
+  const std::vector<cv::Mat> first = pyramid((*frames_)[0].grey);
+  ASSERT_TRUE(tracker.find((*frames_)[0].grey, {}, first, kWindow, kLevels, camera_.get()).has_value());
+  EXPECT_FALSE(tracker.find(no_board, first, pyramid(no_board), kWindow, kLevels, camera_.get()).has_value());
+  EXPECT_FALSE(tracker.lastWasTracked());
+}
+
+}  // namespace
+}  // namespace slamcmp
