@@ -66,8 +66,8 @@ void CslamTracker::finish() {
     throw InputError("", "no camera file and only " + std::to_string(calibrator_->numViews()) +
                              " distinct board views to self-calibrate from (need " +
                              std::to_string(options_.calibration.min_views) + "); give --camera");
-  if (mode_ == Mode::Calibration && posed_frames_ == 0)
-    throw InputError("", "the board never appeared, and calibration mode poses frames from the board only");
+  if (posed_frames_ == 0)  // every mode needs the board once: it sets the world frame and the scale
+    throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }
 
 std::vector<MapPoint> CslamTracker::mapPoints() const { return map_ ? map_->points() : std::vector<MapPoint>{}; }

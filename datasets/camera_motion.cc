@@ -161,8 +161,9 @@ SE3 CameraMotion::nominal(double t) const {
     return lookAt(p, p + Vec3(0.04 * u, 0.0, 1.0));
   }
   if (preset_ == "roll_distortion") {
-    // Roll of 110 degrees each way (16 s a cycle), small lateral and depth motion, the board in view.
-    const double phi = kTwoPi * t / 16.0;
+    // Roll of 110 degrees each way (26 s a cycle: at most 2.7 degrees a frame), small lateral and
+    // depth motion, the board in view.
+    const double phi = kTwoPi * t / 26.0;
     const Vec3 p = c + Vec3(0.06 * std::sin(0.7 * phi), 0.04 * std::sin(1.1 * phi + 0.3), -0.72 + 0.05 * std::sin(0.5 * phi));
     return lookAt(p, c, 110.0 * M_PI / 180.0 * std::sin(phi));
   }

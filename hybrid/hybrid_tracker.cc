@@ -197,7 +197,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
   }
   result.measured = measurement.matched + static_cast<int>(board.observations.size());
   result.features = static_cast<int>(slam_->features().size());
-  const std::string weak = reporting_.weakness(result.measured, slam_->state());
+  const std::string weak = reporting_.weakness(result.measured, !board.observations.empty(), slam_->state());
   if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting
     result.status = TrackStatus::Lost;
     result.reason = weak;

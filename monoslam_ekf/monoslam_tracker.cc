@@ -149,7 +149,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
   }
   result.features = static_cast<int>(slam_.features().size());
-  if (const std::string weak = reporting_.weakness(result.measured, slam_.state()); !weak.empty()) {
+  if (const std::string weak = reporting_.weakness(result.measured, /*anchored=*/false, slam_.state()); !weak.empty()) {
     result.status = TrackStatus::Lost;  // the filter runs on; its extrapolation is not a pose
     result.reason = weak;
     return result;
