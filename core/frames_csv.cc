@@ -10,12 +10,12 @@
 
 namespace slamcmp {
 
-const char* framesCsvHeader() { return "frame,timestamp,status,ms,decode_ms,features,measured"; }
+const char* framesCsvHeader() { return "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured"; }
 
 std::string formatFrameRow(const FrameRow& r) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
-                statusLabel(r.status, r.source).c_str(), r.ms, r.decode_ms, r.features, r.measured);
+  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
+                statusLabel(r.status, r.source).c_str(), r.ms, r.cpu_ms, r.decode_ms, r.features, r.measured);
   return buf;
 }
 
@@ -45,18 +45,19 @@ std::vector<FrameRow> readFramesCsv(const std::string& path) {
     ++n;
     if (line.empty()) continue;
     std::stringstream ss(line);
-    std::string field[7];
+    std::string field[8];
     int k = 0;
-    while (k < 7 && std::getline(ss, field[k], ',')) ++k;
-    if (k != 7) throw InputError(atLine(path, n), "expected 7 comma-separated fields");
+    while (k < 8 && std::getline(ss, field[k], ',')) ++k;
+    if (k != 8) throw InputError(atLine(path, n), "expected 8 comma-separated fields");
     FrameRow r;
     try {
       r.frame = std::stoi(field[0]);
       r.timestamp = std::stod(field[1]);
       r.ms = std::stod(field[3]);
-      r.decode_ms = std::stod(field[4]);
-      r.features = std::stoi(field[5]);
-      r.measured = std::stoi(field[6]);
+      r.cpu_ms = std::stod(field[4]);
+      r.decode_ms = std::stod(field[5]);
+      r.features = std::stoi(field[6]);
+      r.measured = std::stoi(field[7]);
     } catch (const std::exception&) {
       throw InputError(atLine(path, n), "a field is not a number");
     }

@@ -12,13 +12,14 @@ struct FrameRow {
   double timestamp = 0;
   TrackStatus status = TrackStatus::Lost;
   std::string source;    // Tracked: the pose's source, written in the status column
-  double ms = 0;         // back-end time, decoding excluded
+  double ms = 0;         // back-end wall time, decoding excluded
+  double cpu_ms = 0;     // the tracking thread's CPU time for the frame (stable on a loaded machine)
   double decode_ms = 0;  // image decoding
   int features = 0;
   int measured = 0;
 };
 
-const char* framesCsvHeader();  // "frame,timestamp,status,ms,decode_ms,features,measured"
+const char* framesCsvHeader();  // "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured"
 std::string formatFrameRow(const FrameRow& row);  // with a trailing newline
 std::vector<FrameRow> readFramesCsv(const std::string& path);  // InputError naming file:line
 // The status column: "initialising", "lost", or else the source of a tracked frame's pose (a

@@ -49,16 +49,17 @@ void RunRecorder::write(Row row) {
   }
   const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
                                                                                           : TrackStatus::Lost;
-  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.decode_ms, row.features,
+  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.cpu_ms, row.decode_ms, row.features,
                                   row.measured});
   frames_file_.flush();
 }
 
-void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, double decode_ms) {
+void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, double cpu_ms, double decode_ms) {
   ++frames_;
   ms_.push_back(ms);
+  cpu_ms_.push_back(cpu_ms);
   const Row row{frame.index, frame.timestamp, r.status, r.source, r.T_world_camera, r.features, r.measured,
-                r.reason, ms, decode_ms};
+                r.reason, ms, cpu_ms, decode_ms};
   if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
     waiting_.push_back(row);
     return;
@@ -80,7 +81,7 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
 void RunRecorder::recordUndecodable(const Frame& frame, double decode_ms) {
   ++frames_;
   const Row row{frame.index, frame.timestamp, TrackStatus::Lost, "", std::nullopt, 0, 0,
-                "image could not be decoded", 0.0, decode_ms};
+                "image could not be decoded", 0.0, 0.0, decode_ms};
   if (waiting_.empty()) write(row);
   else waiting_.push_back(row);  // keeps the files in frame order
 }
@@ -99,6 +100,8 @@ nlohmann::json RunRecorder::summary() const {
   j["lost"] = lost_;
   j["first_lost_frame"] = first_lost_frame_ ? nlohmann::json(*first_lost_frame_) : nlohmann::json(nullptr);
   j["ms_per_frame"] = {{"median", t.median}, {"mean", t.mean}, {"p99", t.p99}, {"max", t.max}};
+  const Statistics c = computeStatistics(cpu_ms_);
+  j["cpu_ms_per_frame"] = {{"median", c.median}, {"mean", c.mean}, {"p99", c.p99}, {"max", c.max}};
   j["lost_reasons"] = lost_reasons_;
   return j;
 }

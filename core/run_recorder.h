@@ -25,7 +25,8 @@ class RunRecorder {
   // Creates `out_dir` (and parents); throws InputError if it cannot be written.
   RunRecorder(const std::string& out_dir, const std::string& backend);
 
-  void record(const Frame& frame, const FrameResult& result, double ms, double decode_ms);
+  // ms: the back-end's wall time for the frame; cpu_ms: its thread's CPU time.
+  void record(const Frame& frame, const FrameResult& result, double ms, double cpu_ms, double decode_ms);
   // A frame whose image could not be decoded: recorded lost, not fatal.
   void recordUndecodable(const Frame& frame, double decode_ms);
   // Writes the rows still waiting (the run ended, or stopped, while initialising).
@@ -51,7 +52,7 @@ class RunRecorder {
     std::optional<SE3> T_world_camera;
     int features = 0, measured = 0;
     std::string reason;
-    double ms = 0, decode_ms = 0;
+    double ms = 0, cpu_ms = 0, decode_ms = 0;
   };
   void write(Row row);
 
@@ -60,7 +61,7 @@ class RunRecorder {
   std::string backend_;
   std::ofstream trajectory_file_;
   std::ofstream frames_file_;
-  std::vector<double> ms_;
+  std::vector<double> ms_, cpu_ms_;
   int frames_ = 0;
   int tracked_ = 0;
   int lost_ = 0;

@@ -21,13 +21,26 @@
 
 namespace slamcmp {
 
+// The filter's options, listed flat in the back-ends' own option structs (their YAML sections
+// keep `motion:`, `search:`, ... at the top): visitFilterOptions is that list.
 struct EkfSlamOptions {
   MotionModelOptions motion;
   ActiveSearchOptions search;
   FeatureInitOptions feature_init;
   MapManagementOptions map;
   HealthOptions health;
+  ReportingOptions reporting;
 };
+
+template <class V>
+void visitFilterOptions(V& v, EkfSlamOptions& o) {
+  v("motion", o.motion, "constant-velocity motion model");
+  v("search", o.search, "active search");
+  v("feature_init", o.feature_init, "new features: rays with depth particles");
+  v("map", o.map, "map size and deletion");
+  v("health", o.health, "divergence detection");
+  v("reporting", o.reporting, "when frames are reported lost instead of extrapolated");
+}
 
 class EkfSlam {
  public:

@@ -210,16 +210,13 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
   refine(grey, refineHalfWindow(squares[squares.size() / 2]), uv);
   // Gated one by one, then on the board plane with the corners already kept this frame.
-  const double gate = -2.0 * std::log(1.0 - options_.gate);
   std::vector<int> all_ids = tracked_ids_;
   std::vector<Vec2> all_z;
   for (const cv::Point2f& p : tracked_uv_) all_z.emplace_back(p.x, p.y);
   const size_t first_new = all_ids.size();
   for (size_t k = 0; k < ids.size(); ++k) {
-    const CornerPrediction& p = pred[ids[k]];
     const Vec2 measured(uv[k].x, uv[k].y);
-    const Vec2 nu = measured - p.h.uv_distorted;
-    if (!measured.allFinite() || nu.dot(p.S.ldlt().solve(nu)) > gate) continue;
+    if (!withinGate(pred[ids[k]], measured)) continue;
     all_ids.push_back(ids[k]);
     all_z.push_back(measured);
   }
@@ -237,6 +234,12 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
     tracked_uv_.emplace_back(static_cast<float>(all_z[k].x()), static_cast<float>(all_z[k].y()));
   }
   return out;
+}
+
+bool BoardCornerMeasurer::withinGate(const CornerPrediction& p, const Vec2& measured) const {
+  const double gate = -2.0 * std::log(1.0 - options_.gate);  // chi-square quantile, 2 dof
+  const Vec2 nu = measured - p.h.uv_distorted;
+  return measured.allFinite() && nu.dot(p.S.ldlt().solve(nu)) <= gate;
 }
 
 int BoardCornerMeasurer::refineHalfWindow(double square_px) const {
@@ -260,15 +263,11 @@ BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPredict
                                                  const std::vector<cv::Point2f>& uv) {
   BoardCornerMeasurement out;
   // Each corner within its own innovation gate.
-  const double gate = -2.0 * std::log(1.0 - options_.gate);  // chi-square quantile, 2 dof
   std::vector<int> kept;
   std::vector<Vec2> z;
   for (size_t k = 0; k < ids.size(); ++k) {
-    const CornerPrediction& p = pred[ids[k]];
-    if (!p.in_image) continue;
     const Vec2 measured(uv[k].x, uv[k].y);
-    const Vec2 nu = measured - p.h.uv_distorted;
-    if (!measured.allFinite() || nu.dot(p.S.ldlt().solve(nu)) > gate) continue;
+    if (!pred[ids[k]].in_image || !withinGate(pred[ids[k]], measured)) continue;
     kept.push_back(ids[k]);
     z.push_back(measured);
   }

@@ -24,7 +24,7 @@ HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions&
     : options_(options),
       image_size_(context.image_size),
       want_overlay_(context.want_overlay),
-      reporting_(options.reporting) {
+      reporting_(options.filter.reporting) {
   if (!context.target)
     throw InputError("--target", "hybrid needs the chessboard target (target.yaml beside the sequence or --target)");
   target_ = *context.target;
@@ -39,7 +39,7 @@ HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions&
 
 void HybridTracker::startFilter(const CameraModel& camera) {
   slam_ = std::make_unique<EkfSlam>(
-      camera, EkfSlamOptions{options_.motion, options_.search, options_.feature_init, options_.map, options_.health});
+      camera, options_.filter);
   corners_ = std::make_unique<BoardCornerMeasurer>(camera, target_, options_.corners);
 }
 

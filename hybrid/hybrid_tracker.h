@@ -39,23 +39,13 @@ struct HybridStartOptions {
 };
 
 struct HybridOptions {
-  MotionModelOptions motion;
-  ActiveSearchOptions search;
-  FeatureInitOptions feature_init;
-  MapManagementOptions map;
-  HealthOptions health;
-  ReportingOptions reporting;
+  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
   HybridStartOptions start;
   BoardCornerMeasurementOptions corners;
   SelfCalibrationOptions calibration;
   template <class V>
   void visit(V& v) {
-    v("motion", motion, "constant-velocity motion model");
-    v("search", search, "active search of the room's features");
-    v("feature_init", feature_init, "new features: rays with depth particles");
-    v("map", map, "map size and deletion");
-    v("health", health, "divergence: the filter restarts from the board");
-    v("reporting", reporting, "when frames are reported lost instead of extrapolated");
+    visitFilterOptions(v, filter);
     v("start", start, "first camera state uncertainty");
     v("corners", corners, "the board's corners, each a known landmark");
     v("calibration", calibration, "self-calibration when no camera file is given");

@@ -25,8 +25,8 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
       init_(context.init),
       want_overlay_(context.want_overlay),
       slam_(context.camera ? *context.camera : CameraModel(),
-            {options.motion, options.search, options.feature_init, options.map, options.health}),
-      reporting_(options.reporting) {
+            options.filter),
+      reporting_(options.filter.reporting) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
   if (!context.target)
@@ -110,7 +110,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
 std::string MonoslamTracker::divergence() const {
   const std::string why = slam_.divergence();
   if (!why.empty()) return why;
-  if (frames_unmeasured_ >= options_.health.max_frames_unmeasured)
+  if (frames_unmeasured_ >= options_.filter.health.max_frames_unmeasured)
     return "no feature matched for " + std::to_string(frames_unmeasured_) + " frames";
   return "";
 }

@@ -15,13 +15,6 @@ namespace slamcmp {
 
 namespace {
 
-std::string fmt(double v, int precision = 2) {
-  if (!std::isfinite(v)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(precision) << v;
-  return s.str();
-}
-
 // Pose of each frame (by index) or nothing: the trajectory associated with the frames'
 // timestamps as the tables associate it with the ground truth (associateByTime, 10 ms).
 std::vector<std::optional<SE3>> posesByFrame(const std::vector<FrameRow>& frames, const Trajectory& traj) {

@@ -48,6 +48,9 @@ struct RunResult {
   std::optional<MapEvaluation> map_errors;
 };
 
+// A number for a table: fixed with `precision` decimals, "-" when not finite.
+std::string fmt(double v, int precision = 2);
+
 // Opens the sequence for its name, frame count, ground truth and scene (InputError if it cannot).
 SequenceInfo readSequenceInfo(const std::string& path);
 

@@ -61,13 +61,13 @@ TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
   const SE3 T2 = SE3::fromRotvec(Vec3(0.15, -0.2, 0.3), Vec3(0.6, 0.25, -1.0));
   {
     RunRecorder recorder(out, "cslam");
-    recorder.record(frameAt(0), tracked("board", T0, 54, 54), 5.0, 1.5);
-    recorder.record(frameAt(1), lost("board not found"), 1.0, 1.25);
-    recorder.record(frameAt(2), tracked("two_view", T2, 120, 80), 3.0, 1.0);
+    recorder.record(frameAt(0), tracked("board", T0, 54, 54), 5.0, 2.5, 1.5);
+    recorder.record(frameAt(1), lost("board not found"), 1.0, 0.5, 1.25);
+    recorder.record(frameAt(2), tracked("two_view", T2, 120, 80), 3.0, 1.5, 1.0);
     recorder.recordUndecodable(frameAt(3), 0.5);
     FrameResult initialising;
     initialising.status = TrackStatus::Initialising;
-    recorder.record(frameAt(4), initialising, 4.0, 1.0);
+    recorder.record(frameAt(4), initialising, 4.0, 2.0, 1.0);
     EXPECT_EQ(recorder.frames(), 5);
     EXPECT_EQ(recorder.tracked(), 2);
     recorder.writeSummary({{"sequence", "seq"}});
@@ -84,20 +84,21 @@ TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
   // frames.csv: the SPEC header and one row a frame.
   const auto lines = readLines(out + "/frames.csv");
   ASSERT_EQ(lines.size(), 6u);
-  EXPECT_EQ(lines[0], "frame,timestamp,status,ms,decode_ms,features,measured");
+  EXPECT_EQ(lines[0], "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured");
   const std::vector<std::string> status = {"board", "lost", "two_view", "lost", "initialising"};
   for (int i = 0; i < 5; ++i) {
     const auto f = splitCsv(lines[i + 1]);
-    ASSERT_EQ(f.size(), 7u) << lines[i + 1];
+    ASSERT_EQ(f.size(), 8u) << lines[i + 1];
     EXPECT_EQ(std::stoi(f[0]), i);
     EXPECT_NEAR(std::stod(f[1]), 10.0 + 0.1 * i, 1e-6);
     EXPECT_EQ(f[2], status[i]);
   }
   const auto row2 = splitCsv(lines[3]);
   EXPECT_DOUBLE_EQ(std::stod(row2[3]), 3.0);
-  EXPECT_DOUBLE_EQ(std::stod(row2[4]), 1.0);
-  EXPECT_EQ(row2[5], "120");
-  EXPECT_EQ(row2[6], "80");
+  EXPECT_DOUBLE_EQ(std::stod(row2[4]), 1.5);  // cpu_ms
+  EXPECT_DOUBLE_EQ(std::stod(row2[5]), 1.0);
+  EXPECT_EQ(row2[6], "120");
+  EXPECT_EQ(row2[7], "80");
 
   // summary.json
   const nlohmann::json s = readJson(out + "/summary.json");
@@ -126,19 +127,19 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
   initialising.reason = "gathering board views for self-calibration (1 of 8)";
   {
     RunRecorder recorder(dir.path(), "cslam");
-    recorder.record(frameAt(0), initialising, 1.0, 0.0);  // no board: stays initialising
-    recorder.record(frameAt(1), initialising, 1.0, 0.0);
+    recorder.record(frameAt(0), initialising, 1.0, 0.5, 0.0);  // no board: stays initialising
+    recorder.record(frameAt(1), initialising, 1.0, 0.5, 0.0);
     recorder.recordUndecodable(frameAt(2), 0.0);
-    recorder.record(frameAt(3), initialising, 1.0, 0.0);
+    recorder.record(frameAt(3), initialising, 1.0, 0.5, 0.0);
     EXPECT_EQ(recorder.frames(), 4);
     EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 1u);  // the header: the rows wait
     FrameResult calibrated = tracked("board", T5, 54, 54);
     calibrated.late_poses = {{1, "board", T1, 54}, {3, "board", T3, 54},
                              {4, "board", T3, 54}};  // 4 was not initialising: ignored
-    recorder.record(frameAt(4), lost("board not found"), 1.0, 0.0);
-    recorder.record(frameAt(5), calibrated, 1.0, 0.0);
+    recorder.record(frameAt(4), lost("board not found"), 1.0, 0.5, 0.0);
+    recorder.record(frameAt(5), calibrated, 1.0, 0.5, 0.0);
     EXPECT_EQ(recorder.tracked(), 1);  // 4 was lost, so 0..3 were written before the late poses
-    recorder.record(frameAt(6), initialising, 1.0, 0.0);  // waits, then flushed by writeSummary
+    recorder.record(frameAt(6), initialising, 1.0, 0.5, 0.0);  // waits, then flushed by writeSummary
     recorder.writeSummary(nlohmann::json::object());
   }
   const auto lines = readLines(dir.file("frames.csv"));
@@ -154,13 +155,13 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
   test::TempDir dir2;
   {
     RunRecorder recorder(dir2.path(), "cslam");
-    recorder.record(frameAt(0), initialising, 1.0, 0.0);
-    recorder.record(frameAt(1), initialising, 1.0, 0.0);
+    recorder.record(frameAt(0), initialising, 1.0, 0.5, 0.0);
+    recorder.record(frameAt(1), initialising, 1.0, 0.5, 0.0);
     recorder.recordUndecodable(frameAt(2), 0.0);
-    recorder.record(frameAt(3), initialising, 1.0, 0.0);
+    recorder.record(frameAt(3), initialising, 1.0, 0.5, 0.0);
     FrameResult calibrated = tracked("board", T5, 54, 54);
     calibrated.late_poses = {{1, "board", T1, 50}, {3, "board", T3, 52}};
-    recorder.record(frameAt(4), calibrated, 1.0, 0.0);
+    recorder.record(frameAt(4), calibrated, 1.0, 0.5, 0.0);
     EXPECT_EQ(recorder.tracked(), 3);
     recorder.writeSummary(nlohmann::json::object());
   }
@@ -168,7 +169,7 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
   ASSERT_EQ(rows.size(), 6u);
   const std::vector<std::string> status2 = {"initialising", "board", "lost", "board", "board"};
   for (int i = 0; i < 5; ++i) EXPECT_EQ(splitCsv(rows[i + 1])[2], status2[i]) << i;
-  EXPECT_EQ(splitCsv(rows[2])[6], "50");
+  EXPECT_EQ(splitCsv(rows[2])[7], "50");  // measured
   const Trajectory t = readTrajectory(dir2.file("trajectory.txt"));
   ASSERT_EQ(t.size(), 3u);
   EXPECT_NEAR(t[0].timestamp, 10.1, 1e-9);
@@ -187,21 +188,22 @@ TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
   test::TempDir dir;
   RunRecorder recorder(dir.path(), "monoslam");
   for (int i = 0; i < 3; ++i)
-    recorder.record(frameAt(i), tracked("ekf", SE3(), 10, 9), 2.0 * (i + 1), 0.0);
+    recorder.record(frameAt(i), tracked("ekf", SE3(), 10, 9), 2.0 * (i + 1), 0.5 * 2.0 * (i + 1), 0.0);
   const nlohmann::json s = recorder.summary();
   EXPECT_EQ(s["frames"], 3);
   EXPECT_EQ(s["tracked"], 3);
   EXPECT_EQ(s["lost"], 0);
   EXPECT_TRUE(s["first_lost_frame"].is_null());
   EXPECT_DOUBLE_EQ(s["ms_per_frame"]["median"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(s["cpu_ms_per_frame"]["median"].get<double>(), 2.0);
 }
 
 TEST(RunRecorder, WithoutPosesTheTrajectoryHoldsOnlyItsHeader) {
   test::TempDir dir;
   {
     RunRecorder recorder(dir.path(), "cslam");
-    recorder.record(frameAt(0), lost("no board"), 1.0, 0.0);
-    recorder.record(frameAt(1), lost("no board"), 1.0, 0.0);
+    recorder.record(frameAt(0), lost("no board"), 1.0, 0.5, 0.0);
+    recorder.record(frameAt(1), lost("no board"), 1.0, 0.5, 0.0);
     const nlohmann::json s = recorder.summary();
     EXPECT_EQ(s["tracked"], 0);
     EXPECT_EQ(s["first_lost_frame"], 0);
