@@ -21,8 +21,8 @@ int main(int argc, char** argv) {
   setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);  // AV_LOG_QUIET
   setenv("OPENCV_VIDEOIO_PRIORITY_GSTREAMER", "0", 0);  // FFmpeg reads the files we read
   CLI::App app{
-      "slamcmp: runs two monocular SLAM methods (cslam: calibration-integrated SLAM, monoslam: "
-      "MonoSLAM EKF) on the same image sequences and scores them against ground truth."};
+      "slamcmp: runs monocular SLAM back-ends (`slamcmp run --help` lists them) on the same image sequences "
+      "and scores them against ground truth."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "slamcmp 0.1");
   slamcmp::addSynthCommand(app);
