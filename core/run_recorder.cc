@@ -58,6 +58,7 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
   ++frames_;
   ms_.push_back(ms);
   cpu_ms_.push_back(cpu_ms);
+  for (const auto& [stage, stage_ms] : r.stages) stage_ms_[stage].push_back(stage_ms);
   const Row row{frame.index, frame.timestamp, r.status, r.source, r.T_world_camera, r.features, r.measured,
                 r.reason, ms, cpu_ms, decode_ms};
   if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
@@ -102,6 +103,13 @@ nlohmann::json RunRecorder::summary() const {
   j["ms_per_frame"] = {{"median", t.median}, {"mean", t.mean}, {"p99", t.p99}, {"max", t.max}};
   const Statistics c = computeStatistics(cpu_ms_);
   j["cpu_ms_per_frame"] = {{"median", c.median}, {"mean", c.mean}, {"p99", c.p99}, {"max", c.max}};
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [stage, calls] : stage_ms_) {
+    const Statistics st = computeStatistics(calls);
+    stages[stage] = {{"median", st.median}, {"mean", st.mean}, {"p99", st.p99}, {"max", st.max},
+                     {"calls", static_cast<int>(calls.size())}};
+  }
+  j["stages"] = stages;
   j["lost_reasons"] = lost_reasons_;
   return j;
 }

@@ -62,6 +62,7 @@ class RunRecorder {
   std::ofstream trajectory_file_;
   std::ofstream frames_file_;
   std::vector<double> ms_, cpu_ms_;
+  std::map<std::string, std::vector<double>> stage_ms_;  // CPU ms of each call of each stage
   int frames_ = 0;
   int tracked_ = 0;
   int lost_ = 0;

@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "core/frame_overlay.h"
 #include "core/sequence.h"
+#include "core/stage_timer.h"
 #include "core/target.h"
 
 namespace slamcmp {
@@ -48,6 +49,7 @@ struct FrameResult {
   std::string reason;                 // why the frame is lost or degraded; "" when all is well
   std::optional<FrameOverlay> overlay;  // what was seen, when TrackerContext::want_overlay
   std::vector<LatePose> late_poses;     // earlier Initialising frames posed now (see RunRecorder)
+  StageTimes stages;                    // CPU ms of the back-end's stages in this frame (summary.json)
 };
 
 struct MapPoint {

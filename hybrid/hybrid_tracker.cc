@@ -170,13 +170,22 @@ FrameResult HybridTracker::track(const Frame& frame) {
     }
     slam_->updateMap(frame.grey, visible_, boardPixels());
   } else {
-    slam_->predict(frame.timestamp - last_timestamp_);
+    {
+      const StageTimer timer(&result.stages, "predict");
+      slam_->predict(frame.timestamp - last_timestamp_);
+    }
     last_timestamp_ = frame.timestamp;
     // The board first: its corners are exact landmarks, and the map's search regions then shrink.
     bool restarted = false;
-    board = measureBoard(frame, &restarted);
+    {
+      const StageTimer timer(&result.stages, "board");
+      board = measureBoard(frame, &restarted);
+    }
     if (restarted) result.reason = "the board disagreed with the filter: restarted from the board";
-    measurement = slam_->measure(frame.grey);
+    {
+      const StageTimer timer(&result.stages, "features");
+      measurement = slam_->measure(frame.grey);
+    }
     visible_ = measurement.visible;
     if (want_overlay_) {
       result.overlay = slam_->overlay(measurement, target_);
@@ -184,7 +193,10 @@ FrameResult HybridTracker::track(const Frame& frame) {
         result.overlay->features.push_back(
             {-1 - board.corner_ids[k], board.observations[k].z, OverlayFeatureState::Matched});
     }
-    slam_->updateMap(frame.grey, visible_, boardPixels());
+    {
+      const StageTimer timer(&result.stages, "map");
+      slam_->updateMap(frame.grey, visible_, boardPixels());
+    }
     const std::string why = slam_->divergence();
     if (!why.empty()) {
       running_ = false;

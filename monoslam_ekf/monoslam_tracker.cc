@@ -130,15 +130,25 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
       result.overlay->board_corners = start_corners_;
     }
   } else {
-    slam_.predict(frame.timestamp - last_timestamp_);
+    {
+      const StageTimer timer(&result.stages, "predict");
+      slam_.predict(frame.timestamp - last_timestamp_);
+    }
     last_timestamp_ = frame.timestamp;
-    const FrameMeasurement measurement = slam_.measure(frame.grey);
+    FrameMeasurement measurement;
+    {
+      const StageTimer timer(&result.stages, "features");
+      measurement = slam_.measure(frame.grey);
+    }
     visible_ = measurement.visible;
     result.measured = measurement.matched;
     // Before updateRays and manageMap, which may remove features `measurement` points into.
     if (want_overlay_) result.overlay = slam_.overlay(measurement, target_);
     frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
-    slam_.updateMap(frame.grey, visible_);
+    {
+      const StageTimer timer(&result.stages, "map");
+      slam_.updateMap(frame.grey, visible_);
+    }
     const std::string why = divergence();
     if (!why.empty()) {
       running_ = false;

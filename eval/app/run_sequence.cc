@@ -50,12 +50,6 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
 
 }  // namespace
 
-double threadCpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
-
 void installInterruptHandler() { std::signal(SIGINT, onInterrupt); }
 bool interrupted() { return g_interrupted; }
 

@@ -34,10 +34,6 @@ nlohmann::json runSequence(const RunRequest& request);
 void installInterruptHandler();
 bool interrupted();
 
-// The calling thread's CPU time in ms (CLOCK_THREAD_CPUTIME_ID): what a frame cost the tracker,
-// whatever else the machine is running.
-double threadCpuMs();
-
 // runs/<sequence>-<backend>[-<mode>]
 std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
                           const std::string& mode);

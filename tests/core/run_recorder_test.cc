@@ -198,6 +198,24 @@ TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
   EXPECT_DOUBLE_EQ(s["cpu_ms_per_frame"]["median"].get<double>(), 2.0);
 }
 
+// Per-stage CPU time: every call of a stage counted, its statistics in summary.json's `stages`.
+TEST(RunRecorder, StagesAreSummarisedPerStage) {
+  test::TempDir dir;
+  RunRecorder recorder(dir.path(), "hybrid");
+  for (int i = 0; i < 4; ++i) {
+    FrameResult r = tracked("ekf", SE3(), 10, 9);
+    r.stages = {{"predict", 0.1}, {"features", 1.0 + i}};
+    if (i % 2 == 0) r.stages.push_back({"board", 2.0});
+    recorder.record(frameAt(i), r, 3.0, 3.0, 0.0);
+  }
+  const nlohmann::json s = recorder.summary();
+  EXPECT_EQ(s["stages"]["predict"]["calls"], 4);
+  EXPECT_EQ(s["stages"]["board"]["calls"], 2);
+  EXPECT_DOUBLE_EQ(s["stages"]["features"]["median"].get<double>(), 2.5);
+  EXPECT_DOUBLE_EQ(s["stages"]["features"]["max"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(s["stages"]["features"]["mean"].get<double>(), 2.5);
+}
+
 TEST(RunRecorder, WithoutPosesTheTrajectoryHoldsOnlyItsHeader) {
   test::TempDir dir;
   {
