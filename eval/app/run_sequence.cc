@@ -51,11 +51,13 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
 
 // Ctrl-C (SIGINT), `kill` (SIGTERM) and a closed terminal or ssh session (SIGHUP) all stop the run
 // at the next frame, leaving whole outputs for the frames done and "interrupted": true.
-// A signal the parent ignores stays ignored (`nohup slamcmp run ...` must survive the hang-up).
+// A hang-up the parent ignores stays ignored (`nohup slamcmp run ...` must survive it).
 void installInterruptHandler() {
   for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     struct sigaction current {};
-    if (sigaction(signal_number, nullptr, &current) == 0 && current.sa_handler == SIG_IGN) continue;
+    if (signal_number == SIGHUP && sigaction(signal_number, nullptr, &current) == 0 &&
+        current.sa_handler == SIG_IGN)
+      continue;
     struct sigaction action {};
     action.sa_handler = onInterrupt;
     sigemptyset(&action.sa_mask);

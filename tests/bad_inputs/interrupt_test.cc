@@ -43,6 +43,8 @@ pid_t spawn(const std::vector<std::string>& argv, const std::string& out, const 
     const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(o, 1);
     dup2(e, 2);
+    // As from a terminal: whatever the test runner ignores (nohup: SIGHUP), the run hears.
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal_number, SIG_DFL);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
