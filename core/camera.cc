@@ -1,11 +1,52 @@
 #include "core/camera.h"
 
 #include <cmath>
+#include <sstream>
+#include <utility>
 
 #include "core/error.h"
 #include "core/yaml.h"
 
 namespace slamcmp {
+
+namespace {
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// An integer `dt` (u, c, w, s, i) makes OpenCV round the values it reads (fx 150.7 -> 151) or wrap
+// them (an 8-bit 500 -> 244): refused rather than silently read.
+void requireFloatingPoint(const YamlFile& file, const std::string& key) {
+  const cv::FileNode n = file.node(key);
+  if (!n.isMap()) return;  // a plain list, or missing: getMatrix() reports what is wrong
+  const cv::FileNode dt = n["dt"];
+  if (dt.empty()) return;
+  const std::string type = dt.isString() ? static_cast<std::string>(dt) : std::string("?");
+  if (type != "f" && type != "d")
+    throw InputError(file.path() + ": " + key + ".dt",
+                     "must be f or d (floating point), got '" + type + "': integer data would be rounded");
+}
+
+// Focal lengths and principal point a real camera of this image size can have; anything else is a
+// unit mix-up (millimetres, another resolution) or a typo, and would only show up as a lost run.
+void checkPlausibleIntrinsics(const CameraModel& c, const std::string& path) {
+  const std::string where = path + ": camera_matrix";
+  const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
+  const double lo = 0.05 * c.width, hi = 100.0 * c.width;
+  for (const auto& [name, f] : {std::pair<const char*, double>{"fx", c.fx}, {"fy", c.fy}})
+    if (f < lo || f > hi)
+      throw InputError(where, std::string(name) + " " + formatNumber(f) + " px is not plausible for " + size +
+                                  " images (expected " + formatNumber(lo) + " to " + formatNumber(hi) + " px)");
+  if (c.cx < -0.5 * c.width || c.cx > 1.5 * c.width)
+    throw InputError(where, "cx " + formatNumber(c.cx) + " px is far outside the " + size + " image");
+  if (c.cy < -0.5 * c.height || c.cy > 1.5 * c.height)
+    throw InputError(where, "cy " + formatNumber(c.cy) + " px is far outside the " + size + " image");
+}
+
+}  // namespace
 
 bool CameraModel::hasDistortion() const {
   for (int i = 0; i < num_distortion; ++i)
@@ -143,6 +184,8 @@ CameraModel readCameraYaml(const std::string& path) {
   CameraModel c;
   c.width = file.getInt("image_width");
   c.height = file.getInt("image_height");
+  requireFloatingPoint(file, "camera_matrix");
+  requireFloatingPoint(file, "distortion_coefficients");
   const cv::Mat K = file.getMatrix("camera_matrix");
   if (K.rows != 3 || K.cols != 3)
     throw InputError(path + ": camera_matrix", "must be 3x3, got " + std::to_string(K.rows) + "x" +
@@ -158,6 +201,7 @@ CameraModel readCameraYaml(const std::string& path) {
   c = CameraModel::fromOpenCV(K, d, cv::Size(c.width, c.height));
   c.num_distortion = n;
   c.check(path);
+  checkPlausibleIntrinsics(c, path);
   return c;
 }
 

@@ -98,7 +98,7 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   if (!options.camera_path.empty()) {
     seq.camera_path = options.camera_path;
     seq.camera = readCameraYaml(seq.camera_path);
-  } else if (!seq.camera && fs::exists(companion_dir / "camera.yaml")) {
+  } else if (!seq.camera && pathExists(companion_dir / "camera.yaml")) {
     seq.camera_path = (companion_dir / "camera.yaml").string();
     seq.camera = readCameraYaml(seq.camera_path);
   }
@@ -109,14 +109,14 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
                                           std::to_string(seq.image_size.height));
 
   seq.target_path = options.target_path;
-  if (seq.target_path.empty() && fs::exists(companion_dir / "target.yaml"))
+  if (seq.target_path.empty() && pathExists(companion_dir / "target.yaml"))
     seq.target_path = (companion_dir / "target.yaml").string();
   if (!seq.target_path.empty()) {
     seq.target = readTargetYaml(seq.target_path, options.allow_symmetric_target);
     checkTargetFitsImages(*seq.target, seq.image_size, seq.target_path);
   }
 
-  if (!seq.groundtruth && folder && fs::exists(companion_dir / "groundtruth.txt")) {  // one folder, one ground truth
+  if (!seq.groundtruth && folder && pathExists(companion_dir / "groundtruth.txt")) {  // one folder, one ground truth
     seq.groundtruth_path = (companion_dir / "groundtruth.txt").string();
     seq.groundtruth = readTrajectory(seq.groundtruth_path, TrajectoryFormat::Tum);
   }

@@ -16,7 +16,7 @@ fs::path eurocCameraFolder(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_directory(path, ec)) return {};
   for (const fs::path& cam : {path / "mav0" / "cam0", path / "cam0"})
-    if (fs::exists(cam / "data.csv", ec)) return cam;
+    if (pathExists(cam / "data.csv")) return cam;
   return {};
 }
 
@@ -52,6 +52,14 @@ CameraModel readEurocCamera(const std::string& path, SE3* T_body_camera) {
   const auto T = readNumberList(f, "T_BS", 16);
   Mat3 R;
   R << T[0], T[1], T[2], T[4], T[5], T[6], T[8], T[9], T[10];
+  // Projected onto the nearest rotation below, so a rounded one is fine; all zeros, a reflection
+  // or a scaled matrix is not a camera pose in the body frame.
+  const double orthogonality = (R.transpose() * R - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (orthogonality > 1e-2 || R.determinant() < 0.9)
+    throw InputError(path + ": T_BS", "its 3x3 part is not a rotation (det " + std::to_string(R.determinant()) +
+                                          ", |R^T R - I| up to " + std::to_string(orthogonality) + ")");
+  if (T[12] != 0 || T[13] != 0 || T[14] != 0 || T[15] != 1)
+    throw InputError(path + ": T_BS", "its last row must be 0 0 0 1");
   *T_body_camera = SE3(nearestRotation(R), Vec3(T[3], T[7], T[11]));
   return c;
 }
@@ -66,12 +74,12 @@ class EurocFormat : public SequenceFormat {
     const double fps = medianRate(entries);
     Sequence seq = imageListSequence(std::move(entries), fps);
     SE3 T_body_camera;
-    if (options.camera_path.empty() && fs::exists(cam / "sensor.yaml")) {
+    if (options.camera_path.empty() && pathExists(cam / "sensor.yaml")) {
       seq.camera_path = (cam / "sensor.yaml").string();
       seq.camera = readEurocCamera(seq.camera_path, &T_body_camera);
     }
     const fs::path gt = cam.parent_path() / "state_groundtruth_estimate0" / "data.csv";
-    if (fs::exists(gt)) {
+    if (pathExists(gt)) {
       seq.groundtruth_path = gt.string();
       seq.groundtruth = readTrajectory(gt.string(), TrajectoryFormat::Euroc);
       for (auto& pose : *seq.groundtruth) pose.T_world_camera = pose.T_world_camera * T_body_camera;

@@ -4,8 +4,10 @@
 // defining its SequenceFormat and one entry in sequenceFormats().
 #include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
+#include "core/error.h"
 #include "core/sequence.h"
 
 namespace slamcmp {
@@ -27,6 +29,15 @@ const SequenceFormat& tumFormat();          // core/sequence_tum.cc
 const SequenceFormat& eurocFormat();        // core/sequence_euroc.cc
 const SequenceFormat& imageFolderFormat();  // core/sequence_image_folder.cc
 const SequenceFormat& videoFormat();        // core/sequence_video.cc
+
+// Whether `path` exists; a path that cannot be looked at (a symbolic link loop, a folder without
+// permission) is an InputError naming it rather than a filesystem_error (exit 1) or "missing".
+inline bool pathExists(const std::filesystem::path& path) {
+  std::error_code ec;
+  const bool exists = std::filesystem::exists(path, ec);
+  if (ec) throw InputError(path.string(), "cannot be read: " + ec.message());
+  return exists;
+}
 
 // In the order openSequence asks them: the first whose detect() says yes opens the path.
 const std::vector<const SequenceFormat*>& sequenceFormats();

@@ -13,7 +13,7 @@ class TumFormat : public SequenceFormat {
   std::string name() const override { return "tum"; }
   bool detect(const fs::path& path) const override {
     std::error_code ec;
-    return fs::is_directory(path, ec) && fs::exists(path / "rgb.txt", ec);
+    return fs::is_directory(path, ec) && pathExists(path / "rgb.txt");
   }
   Sequence open(const fs::path& path, const SequenceOpenOptions& /*options*/) const override {
     std::vector<ImageEntry> entries = readImageList(path / "rgb.txt", {"timestamp path", ' ', 1.0, path});

@@ -1,11 +1,22 @@
 #include "core/target.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/yaml.h"
 
 namespace slamcmp {
+
+namespace {
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
 
 std::vector<Vec3> ChessboardTarget::cornersWorld() const {
   std::vector<Vec3> out;
@@ -21,16 +32,26 @@ std::vector<Vec3> ChessboardTarget::outerCornersWorld() const {
 }
 
 void ChessboardTarget::check(const std::string& where, bool allow_symmetric) const {
-  if (cols < 2 || rows < 2)
-    throw InputError(where, "a chessboard needs at least 2x2 inner corners, got " +
-                                std::to_string(cols) + "x" + std::to_string(rows));
+  // Fewer than 3 corners along a side give no independent line to fit a homography or a
+  // distortion to (and findChessboardCorners refuses them).
+  if (cols < 3)
+    throw InputError(where + ": inner_corners_cols", "a chessboard needs at least 3x3 inner corners, got " +
+                                                         std::to_string(cols) + "x" + std::to_string(rows));
+  if (rows < 3)
+    throw InputError(where + ": inner_corners_rows", "a chessboard needs at least 3x3 inner corners, got " +
+                                                         std::to_string(cols) + "x" + std::to_string(rows));
   if (symmetric() && !allow_symmetric)
     throw InputError(where, "inner corner counts " + std::to_string(cols) + "x" +
                                 std::to_string(rows) +
                                 " are both " + (cols % 2 ? "odd" : "even") +
                                 ": exactly one must be odd, or the board's orientation is ambiguous");
   if (!(square_size > 0) || !std::isfinite(square_size))
-    throw InputError(where, "square_size must be positive");
+    throw InputError(where + ": square_size", "must be positive and finite (metres)");
+  // Metres: a printed board's squares are millimetres to decimetres; outside 0.1 mm .. 10 m the
+  // number is in another unit (e.g. 40 for 40 mm) or a typo.
+  if (square_size < 1e-4 || square_size > 10)
+    throw InputError(where + ": square_size", "is " + formatNumber(square_size) +
+                                                  " m, outside the plausible 0.0001 to 10 m (the unit is metres)");
 }
 
 ChessboardTarget readTargetYaml(const std::string& path, bool allow_symmetric) {

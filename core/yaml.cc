@@ -1,8 +1,12 @@
 #include "core/yaml.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <system_error>
+#include <vector>
 
 #include <yaml.h>
 
@@ -14,26 +18,81 @@ namespace {
 
 // libyaml checks the syntax before OpenCV parses: OpenCV 4.6's parser loops forever on some
 // malformed files (fuzz/known_hangs). OpenCV's header "%YAML:1.0" is not YAML's "%YAML 1.1".
-// Returns "" when the text is well-formed YAML, else libyaml's problem and line.
-std::string yamlSyntaxProblem(std::string text) {
+// The same pass finds a key written twice in one mapping: OpenCV keeps the first silently.
+struct YamlProblem {
+  std::string where;  // "" or the dotted path of the key concerned, e.g. "cslam.board.track"
+  std::string what;   // "" when the text is well-formed YAML without repeated keys
+};
+
+YamlProblem yamlSyntaxProblem(std::string text) {
+  int added_lines = 0;  // lines inserted above the text: subtracted from libyaml's line numbers
   if (text.rfind("%YAML:", 0) == 0) {
     // OpenCV also reads the header without a "---" after it; YAML needs one after a directive.
     const size_t eol = text.find('\n');
     const bool has_start = eol != std::string::npos && text.compare(eol + 1, 3, "---") == 0;
     text.replace(0, eol, has_start ? "%YAML 1.1" : "%YAML 1.1\n---");
+    if (!has_start) added_lines = 1;
   }
   yaml_parser_t parser;
-  if (!yaml_parser_initialize(&parser)) return "";  // out of memory: leave the check to OpenCV
+  if (!yaml_parser_initialize(&parser)) return {};  // out of memory: leave the check to OpenCV
   yaml_parser_set_input_string(&parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
-  std::string problem;
+  // The open collections, innermost last: a mapping alternates key and value nodes.
+  struct Level {
+    bool mapping = false;
+    bool expect_key = true;
+    std::string path;                  // dotted path of this collection
+    std::string key;                   // the key whose value comes next
+    std::map<std::string, int> lines;  // key -> line it was first written on
+  };
+  std::vector<Level> open;
+  const auto lineOf = [&](const yaml_mark_t& mark) {
+    return static_cast<int>(mark.line) + 1 - added_lines;
+  };
+  YamlProblem problem;
   for (;;) {
     yaml_event_t event;
     if (!yaml_parser_parse(&parser, &event)) {
-      problem = std::string(parser.problem ? parser.problem : "syntax error") + " at line " +
-                std::to_string(parser.problem_mark.line + 1);
+      problem.what = std::string(parser.problem ? parser.problem : "syntax error") + " at line " +
+                     std::to_string(lineOf(parser.problem_mark));
       break;
     }
-    const bool end = event.type == YAML_STREAM_END_EVENT;
+    const yaml_event_type_t type = event.type;
+    const bool node_start = type == YAML_SCALAR_EVENT || type == YAML_ALIAS_EVENT ||
+                            type == YAML_MAPPING_START_EVENT || type == YAML_SEQUENCE_START_EVENT;
+    std::string child_path = open.empty() ? "" : open.back().path;
+    if (node_start && !open.empty() && open.back().mapping) {
+      Level& level = open.back();
+      if (level.expect_key) {
+        level.key = type == YAML_SCALAR_EVENT
+                        ? std::string(reinterpret_cast<const char*>(event.data.scalar.value),
+                                      event.data.scalar.length)
+                        : std::string("?");
+        const std::string key_path = level.path.empty() ? level.key : level.path + "." + level.key;
+        const int line = lineOf(event.start_mark);
+        if (type == YAML_SCALAR_EVENT) {
+          const auto [first, inserted] = level.lines.emplace(level.key, line);
+          if (!inserted) {
+            problem = {key_path, "written twice in one mapping (lines " + std::to_string(first->second) + " and " +
+                                     std::to_string(line) + "); keep one"};
+            yaml_event_delete(&event);
+            break;
+          }
+        }
+        child_path = key_path;
+      } else {
+        child_path = level.path.empty() ? level.key : level.path + "." + level.key;
+      }
+      level.expect_key = !level.expect_key;
+    }
+    if (type == YAML_MAPPING_START_EVENT || type == YAML_SEQUENCE_START_EVENT) {
+      Level level;
+      level.mapping = type == YAML_MAPPING_START_EVENT;
+      level.path = child_path;
+      open.push_back(std::move(level));
+    } else if ((type == YAML_MAPPING_END_EVENT || type == YAML_SEQUENCE_END_EVENT) && !open.empty()) {
+      open.pop_back();
+    }
+    const bool end = type == YAML_STREAM_END_EVENT;
     yaml_event_delete(&event);
     if (end) break;
   }
@@ -44,6 +103,12 @@ std::string yamlSyntaxProblem(std::string text) {
 }  // namespace
 
 YamlFile::YamlFile(const std::string& path) : path_(path) {
+  // A symbolic link loop or a folder without permission: say so, rather than "missing".
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (ec && status.type() != std::filesystem::file_type::not_found)
+    throw InputError(path, "cannot be read: " + ec.message());
+  if (std::filesystem::is_directory(status)) throw InputError(path, "is a folder, not a YAML file");
   std::ifstream probe(path);
   if (!probe) throw InputError(path, "cannot be opened (missing or unreadable)");
   std::string first;
@@ -51,8 +116,10 @@ YamlFile::YamlFile(const std::string& path) : path_(path) {
   if (!probe && first.empty()) throw InputError(path, "is empty");
   std::stringstream text;
   text << first << '\n' << probe.rdbuf();
-  if (const std::string problem = yamlSyntaxProblem(text.str()); !problem.empty())
-    throw InputError(path, "is not valid YAML: " + problem);
+  if (const YamlProblem problem = yamlSyntaxProblem(text.str()); !problem.what.empty()) {
+    if (!problem.where.empty()) throw InputError(path + ": " + problem.where, problem.what);
+    throw InputError(path, "is not valid YAML: " + problem.what);
+  }
   try {
     fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {

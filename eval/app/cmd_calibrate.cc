@@ -18,9 +18,9 @@ void addCalibrateCommand(CLI::App& app) {
     std::string sequence, target, out;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("--sequence", args->sequence, "sequence folder (rgb.txt), image folder or video file")->required();
-  cmd->add_option("--target", args->target, "target.yaml of the chessboard")->required();
-  cmd->add_option("--out", args->out, "camera.yaml to write")->required();
+  cmd->add_option("--sequence", args->sequence, "sequence folder (rgb.txt), image folder or video file")->check(nonEmptyPath())->required();
+  cmd->add_option("--target", args->target, "target.yaml of the chessboard")->check(nonEmptyPath())->required();
+  cmd->add_option("--out", args->out, "camera.yaml to write")->check(nonEmptyPath())->required();
   cmd->callback([args] {
     SequenceOpenOptions open;
     open.target_path = args->target;

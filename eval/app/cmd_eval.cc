@@ -69,10 +69,10 @@ void addEvalCommand(CLI::App& app) {
       "map error against a synthetic scene (distance of each map point to the nearest true surface)");
   auto request = std::make_shared<EvalRequest>();
   auto* groundtruth_option = cmd->add_option("--groundtruth", request->groundtruth_path,
-                  "ground truth trajectory: TUM, EuRoC (.csv) or KITTI");
-  auto* estimate_option = cmd->add_option("--estimate", request->estimate_path, "estimated trajectory: TUM, EuRoC or KITTI");
-  auto* map_option = cmd->add_option("--map", request->map_path, "map points to score (PLY, e.g. a run's map.ply)");
-  auto* scene_option = cmd->add_option("--scene", request->scene_path, "the true scene (a synthetic sequence's scene.yaml)");
+                  "ground truth trajectory: TUM, EuRoC (.csv) or KITTI")->check(nonEmptyPath());
+  auto* estimate_option = cmd->add_option("--estimate", request->estimate_path, "estimated trajectory: TUM, EuRoC or KITTI")->check(nonEmptyPath());
+  auto* map_option = cmd->add_option("--map", request->map_path, "map points to score (PLY, e.g. a run's map.ply)")->check(nonEmptyPath());
+  auto* scene_option = cmd->add_option("--scene", request->scene_path, "the true scene (a synthetic sequence's scene.yaml)")->check(nonEmptyPath());
   groundtruth_option->needs(estimate_option);
   estimate_option->needs(groundtruth_option);
   map_option->needs(scene_option);

@@ -17,7 +17,7 @@ void addReproduceCommand(CLI::App& app) {
   auto out = std::make_shared<std::string>("out/reproduce");
   auto frames = std::make_shared<int>(0);
   auto jobs = std::make_shared<int>(2);
-  cmd->add_option("--out", *out, "output folder")->capture_default_str();
+  cmd->add_option("--out", *out, "output folder")->check(nonEmptyPath())->capture_default_str();
   cmd->add_option("--frames", *frames, "render N frames of each video instead of its full length (quick look)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--jobs", *jobs, "runs at once")->capture_default_str()->check(CLI::Range(1, 64));

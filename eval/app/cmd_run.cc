@@ -13,16 +13,16 @@ void addRunCommand(CLI::App& app) {
   auto request = std::make_shared<RunRequest>();
   cmd->add_option("--backend", request->backend, "back-end: " + backendNames())->required();
   cmd->add_option("--sequence", request->sequence_path,
-                  "sequence folder (rgb.txt), image folder, video file or EuRoC folder")
+                  "sequence folder (rgb.txt), image folder, video file or EuRoC folder")->check(nonEmptyPath())
       ->required();
-  cmd->add_option("--out", request->out_dir, "output folder (default runs/<sequence>-<backend>)");
+  cmd->add_option("--out", request->out_dir, "output folder (default runs/<sequence>-<backend>)")->check(nonEmptyPath());
   cmd->add_option("--config", request->config_path,
-                  "YAML options file, one section per back-end (" + backendNames(":, ") + ":)");
+                  "YAML options file, one section per back-end (" + backendNames(":, ") + ":)")->check(nonEmptyPath());
   cmd->add_option("--set", request->sets,
                   "override one option: SECTION.KEY=VALUE with the YAML's path, e.g. "
                   "cslam.features.max_features=200 (repeatable)");
-  cmd->add_option("--camera", request->camera_path, "camera.yaml (overrides the sequence's)");
-  cmd->add_option("--target", request->target_path, "target.yaml (overrides the sequence's)");
+  cmd->add_option("--camera", request->camera_path, "camera.yaml (overrides the sequence's)")->check(nonEmptyPath());
+  cmd->add_option("--target", request->target_path, "target.yaml (overrides the sequence's)")->check(nonEmptyPath());
   cmd->add_option("--max-frames", request->max_frames, "stop after N frames")
       ->check(CLI::Range(0, std::numeric_limits<int>::max()));
   cmd->add_option("--mode", request->mode, "the back-end's mode (below; default its first)");
@@ -30,7 +30,7 @@ void addRunCommand(CLI::App& app) {
                   "back-ends that take it (below): board (default) | groundtruth | manual:FILE (a TUM pose)");
   cmd->add_option("--overlay", request->overlay_path,
                   "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
-                  "a folder of PNGs, with overlay.csv listing the drawn positions");
+                  "a folder of PNGs, with overlay.csv listing the drawn positions")->check(nonEmptyPath());
   cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");
   cmd->footer(backendsHelp());
   cmd->callback([request] {

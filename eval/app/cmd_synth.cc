@@ -18,7 +18,7 @@ void addSynthCommand(CLI::App& app) {
   for (const MotionPreset& p : motionPresets())
     presets += "\n  " + p.name + ": " + std::to_string(p.frames) + " frames, " + p.description;
   cmd->add_option("--preset", options->preset, "camera motion (640x480, 10 fps):" + presets)->required();
-  cmd->add_option("--out", *out_dir, "output folder (created; existing files are overwritten)")->required();
+  cmd->add_option("--out", *out_dir, "output folder (created; existing files are overwritten)")->check(nonEmptyPath())->required();
   cmd->add_option("--seed", options->seed, "seed of textures, jitter and noise (default 1)");
   cmd->add_option("--frames", options->frames,
                   "number of frames (default: the preset's; beyond it the motion repeats)");

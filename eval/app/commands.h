@@ -5,6 +5,14 @@
 
 namespace slamcmp {
 
+// A path option given as '' (an unset shell variable: --out "$DIR") is a usage error naming the
+// option ("--out: is empty ..."), never the current folder or a default.
+inline CLI::Validator nonEmptyPath() {
+  return CLI::Validator(
+      [](std::string& value) { return value.empty() ? std::string("is empty; give a path") : std::string(); }, "",
+      "NONEMPTY");
+}
+
 void addSynthCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);

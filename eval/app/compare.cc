@@ -122,6 +122,7 @@ void runAll(const CompareOptions& options, const std::vector<SequenceInfo>& seqs
 
 std::string runCompare(const CompareOptions& options) {
   if (options.sequences.empty()) throw InputError("--sequence", "give at least one sequence");
+  if (options.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
   std::vector<SequenceInfo> seqs;
   for (const auto& path : options.sequences) {
     SequenceInfo info = readSequenceInfo(path);

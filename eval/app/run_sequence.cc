@@ -2,8 +2,7 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
-#include <ctime>
+#include <csignal>  // sigaction (POSIX)
 #include <iostream>
 #include <memory>
 
@@ -50,7 +49,21 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
 
 }  // namespace
 
-void installInterruptHandler() { std::signal(SIGINT, onInterrupt); }
+// Ctrl-C (SIGINT), `kill` (SIGTERM) and a closed terminal or ssh session (SIGHUP) all stop the run
+// at the next frame, leaving whole outputs for the frames done and "interrupted": true.
+// A hang-up the parent ignores stays ignored (`nohup slamcmp run ...` must survive it).
+void installInterruptHandler() {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction current {};
+    if (signal_number == SIGHUP && sigaction(signal_number, nullptr, &current) == 0 &&
+        current.sa_handler == SIG_IGN)
+      continue;
+    struct sigaction action {};
+    action.sa_handler = onInterrupt;
+    sigemptyset(&action.sa_mask);
+    sigaction(signal_number, &action, nullptr);
+  }
+}
 bool interrupted() { return g_interrupted; }
 
 std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
@@ -59,6 +72,8 @@ std::string defaultRunDir(const std::string& sequence_name, const std::string& b
 }
 
 nlohmann::json runSequence(const RunRequest& request) {
+  // Not "the sequence has no frames", which is what an empty run would say at its end.
+  if (request.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
   if (request.show) requireDisplay();
   SequenceOpenOptions open_options;
   open_options.camera_path = request.camera_path;

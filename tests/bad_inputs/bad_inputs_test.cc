@@ -144,6 +144,54 @@ std::string camera(const std::string& matrix_data, const std::string& distortion
 }
 const char* kK = "150., 0., 79.5, 0., 150., 59.5, 0., 0., 1.";
 
+// A camera.yaml with `fx fy cx cy` (160x120 images).
+std::string cameraWithIntrinsics(const std::string& fx, const std::string& fy, const std::string& cx,
+                                 const std::string& cy) {
+  return camera(fx + ", 0., " + cx + ", 0., " + fy + ", " + cy + ", 0., 0., 1.", "0, 0, 0, 0");
+}
+
+// kCameraYaml with the `dt` of its camera_matrix (first) or distortion_coefficients (second) set.
+std::string cameraWithDt(bool distortion, const std::string& dt) {
+  std::string text = kCameraYaml;
+  size_t at = text.find("dt: d");
+  if (distortion) at = text.find("dt: d", at + 1);
+  return text.replace(at, 5, "dt: " + dt);
+}
+
+// slamcmp run on a EuRoC folder in tmp whose cam0/sensor.yaml holds `t_bs` (16 numbers).
+BadCase eurocSensorCase(const std::string& name, const std::string& t_bs) {
+  return {name, [=](const TempDir& tmp) {
+            const std::string cam = tmp.file("mav0/cam0");
+            std::filesystem::create_directories(cam + "/data");
+            writeImage(cam + "/data/1.png");
+            writeImage(cam + "/data/2.png");
+            writeText(cam + "/data.csv", "#timestamp [ns],filename\n1000000000,1.png\n1050000000,2.png\n");
+            writeText(cam + "/sensor.yaml",
+                      "%YAML:1.0\nsensor_type: camera\nT_BS:\n  cols: 4\n  rows: 4\n  data: [" + t_bs +
+                          "]\nresolution: [160, 120]\nintrinsics: [150, 150, 79.5, 59.5]\n"
+                          "distortion_coefficients: [0, 0, 0, 0]\n");
+            return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                              {cam + "/sensor.yaml: T_BS", "not a rotation"}};
+          }};
+}
+
+// A command line whose option `option` is given as '' (an unset shell variable): a usage error.
+BadCase emptyOptionCase(const std::string& name, const std::string& command, const std::string& option) {
+  return {name, [=](const TempDir& tmp) {
+            writeSequence(tmp.file("seq"));
+            std::string args = command;
+            for (size_t at; (at = args.find("{seq}")) != std::string::npos;) args.replace(at, 5, tmp.file("seq"));
+            for (size_t at; (at = args.find("{tmp}")) != std::string::npos;) args.replace(at, 5, tmp.path());
+            return Invocation{args, {option, "is empty"}};
+          }};
+}
+
+// A symbolic link at `link` (inside the sequence) pointing to itself.
+void symlinkLoop(const std::string& link) {
+  std::filesystem::remove(link);
+  std::filesystem::create_symlink(link, link);
+}
+
 std::vector<BadCase> cases() {
   const std::string k3 = "0.0 rgb/0.png\n0.1 rgb/1.png\n0.2 rgb/2.png\n";
   return {
@@ -226,7 +274,7 @@ std::vector<BadCase> cases() {
                            {tmp.file("no.yaml"), "cannot be opened"}};
        }},
       // target.yaml: board sizes and values.
-      yamlCase("BoardZero", "target.yaml", targetYaml("0", "0", "0.04"), "at least 2x2"),
+      yamlCase("BoardZero", "target.yaml", targetYaml("0", "0", "0.04"), "at least 3x3"),
       yamlCase("BoardLargerThanImages", "target.yaml", targetYaml("61", "40", "0.04"),
                "cannot be seen in 160x120 images"),
       yamlCase("BoardSquareNaN", "target.yaml", targetYaml("9", "6", ".nan"), "square_size"),
@@ -430,6 +478,105 @@ std::vector<BadCase> cases() {
       runCase("RunSceneYamlWithoutBoard",
               [](const std::string& seq) { writeText(seq + "/scene.yaml", "%YAML:1.0\n---\nsurfaces: []\n"); },
               {"seq/scene.yaml", "board"}),
+      // Issue 11: empty option values, for every command that takes them.
+      emptyOptionCase("RunOutEmpty", "run --backend cslam --sequence {seq} --out ''", "--out"),
+      emptyOptionCase("RunSequenceEmpty", "run --backend cslam --sequence '' --out {tmp}/o", "--sequence"),
+      emptyOptionCase("RunConfigEmpty", "run --backend cslam --sequence {seq} --out {tmp}/o --config ''",
+                      "--config"),
+      emptyOptionCase("RunCameraEmpty", "run --backend cslam --sequence {seq} --out {tmp}/o --camera ''",
+                      "--camera"),
+      emptyOptionCase("RunTargetEmpty", "run --backend cslam --sequence {seq} --out {tmp}/o --target ''",
+                      "--target"),
+      emptyOptionCase("RunOverlayEmpty", "run --backend cslam --sequence {seq} --out {tmp}/o --overlay ''",
+                      "--overlay"),
+      emptyOptionCase("SynthOutEmpty", "synth --preset tv1 --frames 1 --out ''", "--out"),
+      emptyOptionCase("CalibrateSequenceEmpty",
+                      "calibrate --sequence '' --target {seq}/target.yaml --out {tmp}/c.yaml", "--sequence"),
+      emptyOptionCase("CalibrateTargetEmpty", "calibrate --sequence {seq} --target '' --out {tmp}/c.yaml",
+                      "--target"),
+      emptyOptionCase("CalibrateOutEmpty", "calibrate --sequence {seq} --target {seq}/target.yaml --out ''",
+                      "--out"),
+      emptyOptionCase("CompareOutEmpty", "compare --sequence {seq} --out ''", "--out"),
+      emptyOptionCase("CompareSequenceEmpty", "compare --sequence '' --out {tmp}/c", "--sequence"),
+      emptyOptionCase("ReproduceOutEmpty", "reproduce --frames 1 --out ''", "--out"),
+      emptyOptionCase("EvalEstimatePathEmpty", "eval --groundtruth {seq}/groundtruth.txt --estimate ''", "--estimate"),
+      // Issue 11: a key written twice (OpenCV keeps the first silently).
+      yamlCase("CameraKeyTwice", "camera.yaml", std::string(kCameraYaml) + "image_width: 320\n",
+               "image_width: written twice in one mapping (lines 3 and 15)"),
+      yamlCase("BoardKeyTwice", "target.yaml", targetYaml("9", "6", "0.04") + "square_size: 0.4\n",
+               "square_size: written twice"),
+      yamlCase("CameraMatrixKeyTwice", "camera.yaml",
+               std::string(kCameraYaml).replace(std::string(kCameraYaml).find("   dt: d"), 0, "   rows: 1\n"),
+               "camera_matrix.rows: written twice"),
+      configCase("ConfigKeyTwice", "%YAML:1.0\n---\ncslam:\n  lk_levels: 2\n  lk_levels: 3\n",
+                 "cslam.lk_levels: written twice"),
+      configCase("ConfigSectionTwice", "%YAML:1.0\n---\ncslam:\n  lk_levels: 2\ncslam:\n  lk_levels: 3\n",
+                 "cslam: written twice"),
+      // Issue 11: integer matrices would be rounded or wrapped.
+      yamlCase("CameraMatrixEightBit", "camera.yaml", cameraWithDt(false, "u"), "camera_matrix.dt"),
+      yamlCase("CameraMatrixInteger", "camera.yaml", cameraWithDt(false, "i"), "camera_matrix.dt"),
+      yamlCase("CameraDistortionInteger", "camera.yaml", cameraWithDt(true, "i"), "distortion_coefficients.dt"),
+      // Issue 11: numbers a camera or a board cannot have.
+      yamlCase("CameraFocalTiny", "camera.yaml", cameraWithIntrinsics("0.5", "150.", "79.5", "59.5"),
+               "camera_matrix: fx 0.5 px is not plausible for 160x120 images"),
+      yamlCase("CameraFocalHuge", "camera.yaml", cameraWithIntrinsics("150.", "1e9", "79.5", "59.5"),
+               "camera_matrix: fy 1e+09 px is not plausible"),
+      yamlCase("CameraPrincipalPointFarRight", "camera.yaml", cameraWithIntrinsics("150.", "150.", "5000.", "59.5"),
+               "camera_matrix: cx 5000 px is far outside"),
+      yamlCase("CameraPrincipalPointFarAbove", "camera.yaml", cameraWithIntrinsics("150.", "150.", "79.5", "-200."),
+               "camera_matrix: cy -200 px is far outside"),
+      yamlCase("BoardTwoRows", "target.yaml", targetYaml("9", "2", "0.04"), "inner_corners_rows: a chessboard needs at least 3x3"),
+      yamlCase("BoardTwoCols", "target.yaml", targetYaml("2", "7", "0.04"), "inner_corners_cols: a chessboard needs at least 3x3"),
+      yamlCase("BoardSquareInMillimetres", "target.yaml", targetYaml("9", "6", "40"), "square_size: is 40 m"),
+      yamlCase("BoardSquareTiny", "target.yaml", targetYaml("9", "6", "1e-7"), "square_size: is 1e-07 m"),
+      yamlCase("BoardSquareInfinite", "target.yaml", targetYaml("9", "6", ".inf"), "square_size"),
+      // Issue 11: file system errors name the path (were filesystem_error, exit 1, or "missing").
+      runCase("CameraYamlSymlinkLoop", [](const std::string& seq) { symlinkLoop(seq + "/camera.yaml"); },
+              {"seq/camera.yaml", "cannot be read", "symbolic links"}),
+      runCase("TargetYamlSymlinkLoop", [](const std::string& seq) { symlinkLoop(seq + "/target.yaml"); },
+              {"seq/target.yaml", "cannot be read", "symbolic links"}),
+      runCase("GroundTruthSymlinkLoop", [](const std::string& seq) { symlinkLoop(seq + "/groundtruth.txt"); },
+              {"seq/groundtruth.txt", "cannot be read", "symbolic links"}),
+      runCase("RgbListSymlinkLoop", [](const std::string& seq) { symlinkLoop(seq + "/rgb.txt"); },
+              {"seq/rgb.txt", "cannot be read", "symbolic links"}),
+      {"SequenceSymlinkLoop",
+       [](const TempDir& tmp) {
+         symlinkLoop(tmp.file("loop"));
+         return Invocation{"run --backend cslam --sequence " + tmp.file("loop") + " --out " + tmp.file("o"),
+                           {tmp.file("loop"), "cannot be read", "symbolic links"}};
+       }},
+      {"EurocSensorYamlSymlinkLoop",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directories(tmp.file("mav0/cam0/data"));
+         writeImage(tmp.file("mav0/cam0/data/1.png"));
+         writeText(tmp.file("mav0/cam0/data.csv"), "#timestamp [ns],filename\n1000000000,1.png\n");
+         symlinkLoop(tmp.file("mav0/cam0/sensor.yaml"));
+         return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
+                           {tmp.file("mav0/cam0/sensor.yaml"), "cannot be read"}};
+       }},
+      runCase(
+          "CameraOptionIsAFolder", [](const std::string&) {}, {"seq/rgb", "is a folder"}, "--camera {seq}/rgb"),
+      // Issue 11: --max-frames 0 is said as such.
+      runCase(
+          "MaxFramesZero", [](const std::string&) {}, {"--max-frames 0: nothing to run"}, "--max-frames 0"),
+      {"CompareMaxFramesZero",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         return Invocation{"compare --sequence " + tmp.file("seq") + " --out " + tmp.file("c") + " --max-frames 0",
+                           {"--max-frames 0: nothing to run"}};
+       }},
+      // Issue 11: a byte-order mark before rgb.txt's first line is skipped: the list is read (this
+      // tiny sequence then ends without the board), and a bad first timestamp is named without it.
+      runCase("RgbByteOrderMarkSkipped",
+              [k3](const std::string& seq) { writeText(seq + "/rgb.txt", "\xEF\xBB\xBF" + k3); },
+              {"the board never appeared"}),
+      rgbCase("RgbByteOrderMarkThenBadTimestamp", "\xEF\xBB\xBFzero rgb/0.png\n",
+              ":1: timestamp 'zero' is not a number"),
+      rgbCase("RgbUtf16", std::string("\xFF\xFE" "0\0.\0", 6), ": starts with a UTF-16 byte-order mark"),
+      // Issue 11: a EuRoC T_BS that is no rotation.
+      eurocSensorCase("EurocTbsAllZeros", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1"),
+      eurocSensorCase("EurocTbsScaled", "2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1"),
+      eurocSensorCase("EurocTbsReflection", "1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1"),
   };
 }
 
@@ -450,6 +597,23 @@ TEST_P(BadInput, ExitsTwoWithOneLineNamingTheProblem) {
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// `synth --out ''` is refused before anything is rendered: nothing lands in the current folder.
+TEST(EmptyOut, SynthWritesNothingIntoTheCurrentFolder) {
+  // What synth writes into its --out (other tests may write elsewhere in this folder meanwhile).
+  const std::vector<std::string> outputs{"rgb", "rgb.txt", "camera.yaml", "target.yaml", "groundtruth.txt",
+                                         "scene.yaml", "info.yaml"};
+  std::vector<std::string> present;
+  for (const auto& name : outputs)
+    if (std::filesystem::exists(name)) present.push_back(name);
+  const test::CommandResult r = test::runSlamcmp("synth --preset tv1 --frames 1 --out ''");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  for (const auto& name : outputs) {
+    if (std::find(present.begin(), present.end(), name) == present.end()) {
+      EXPECT_FALSE(std::filesystem::exists(name)) << name << " was written into the current folder";
+    }
+  }
+}
 
 // A symmetric board (both counts even, or both odd) is not bad input: one warning line naming
 // target.yaml, and the run goes on. (This tiny sequence never shows the board, so the run then

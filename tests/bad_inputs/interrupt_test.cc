@@ -1,5 +1,6 @@
-// Ctrl-C in the middle of `slamcmp run` (issue 7): the run stops at the next frame and leaves a
-// valid trajectory.txt, frames.csv and summary.json for the frames done.
+// Ctrl-C (SIGINT), `kill` (SIGTERM) or a closed terminal (SIGHUP) in the middle of `slamcmp run`
+// (issue 7): the run stops at the next frame and leaves a valid trajectory.txt, frames.csv and
+// summary.json ("interrupted": true) for the frames done.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -42,6 +43,8 @@ pid_t spawn(const std::vector<std::string>& argv, const std::string& out, const 
     const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(o, 1);
     dup2(e, 2);
+    // As from a terminal: whatever the test runner ignores (nohup: SIGHUP), the run hears.
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal_number, SIG_DFL);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -66,7 +69,9 @@ int waitExit(pid_t pid, std::chrono::seconds limit) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) {
+// Runs cslam on a long sequence, sends `signal_number` once a few frames are recorded, and checks
+// the outputs are whole.
+void expectValidOutputsAfter(int signal_number) {
   const char* bin = std::getenv("SLAMCMP_BIN");
   ASSERT_NE(bin, nullptr) << "run through ctest (SLAMCMP_BIN)";
   TempDir tmp;
@@ -98,9 +103,9 @@ TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) {
          waitpid(pid, nullptr, WNOHANG) == 0)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   ASSERT_GE(countLines(out + "/frames.csv"), 4) << "the run recorded no frames";
-  kill(pid, SIGINT);
+  kill(pid, signal_number);
   const int code = waitExit(pid, std::chrono::seconds(60));
-  ASSERT_EQ(code, 0) << "the interrupted run should end normally; stderr: "
+  ASSERT_EQ(code, 0) << "the run interrupted by signal " << signal_number << " should end normally; stderr: "
                      << std::ifstream(tmp.file("stderr")).rdbuf();
 
   std::ifstream summary_file(out + "/summary.json");
@@ -124,6 +129,10 @@ TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) {
     EXPECT_EQ(countLines(out + "/trajectory.txt"), 1) << "only the header";
   }
 }
+
+TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGINT); }
+TEST(Interrupt, SigtermLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGTERM); }
+TEST(Interrupt, SighupLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGHUP); }
 
 }  // namespace
 }  // namespace slamcmp

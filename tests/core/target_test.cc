@@ -86,7 +86,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadTarget{"odd_odd", targetYaml("9", "7", "0.03"), "odd"},
         BadTarget{"zero_square", targetYaml("9", "6", "0"), "square_size"},
         BadTarget{"negative_square", targetYaml("9", "6", "-0.04"), "square_size"},
-        BadTarget{"too_few_corners", targetYaml("1", "6", "0.04"), "2x2"},
+        BadTarget{"too_few_corners", targetYaml("1", "6", "0.04"), "3x3"},
         BadTarget{"not_a_chessboard", targetYaml("9", "6", "0.04", "aprilgrid"), "type"},
         BadTarget{"missing_rows", "%YAML:1.0\n---\ninner_corners_cols: 9\nsquare_size: 0.04\n",
                   "inner_corners_rows"}),
