@@ -223,17 +223,20 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   const std::vector<double> errors = planeErrorsPx(all_ids, all_z);
   BoardCornerMeasurement out;
   for (size_t k = first_new; k < all_ids.size(); ++k) {
-    if (errors[k] > options_.max_plane_error_px) continue;
-    PointObservation o;
-    o.offset = kKnownPoint;
-    o.z = all_z[k];
-    o.h = pred[all_ids[k]].h;
-    out.observations.push_back(o);
-    out.corner_ids.push_back(all_ids[k]);
-    tracked_ids_.push_back(all_ids[k]);
-    tracked_uv_.emplace_back(static_cast<float>(all_z[k].x()), static_cast<float>(all_z[k].y()));
+    if (errors[k] <= options_.max_plane_error_px) use(all_ids[k], all_z[k], pred[all_ids[k]].h, &out);
   }
   return out;
+}
+
+void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {
+  PointObservation o;
+  o.offset = kKnownPoint;
+  o.z = z;
+  o.h = h;
+  out->observations.push_back(o);
+  out->corner_ids.push_back(id);
+  tracked_ids_.push_back(id);
+  tracked_uv_.emplace_back(static_cast<float>(z.x()), static_cast<float>(z.y()));
 }
 
 bool BoardCornerMeasurer::withinGate(const CornerPrediction& p, const Vec2& measured) const {
@@ -287,16 +290,7 @@ BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPredict
   }
   reset();
   if (static_cast<int>(kept.size()) >= options_.min_corners) {
-    for (size_t k = 0; k < kept.size(); ++k) {
-      PointObservation o;
-      o.offset = kKnownPoint;
-      o.z = z[k];
-      o.h = pred[kept[k]].h;
-      out.observations.push_back(o);
-      out.corner_ids.push_back(kept[k]);
-      tracked_ids_.push_back(kept[k]);
-      tracked_uv_.emplace_back(static_cast<float>(z[k].x()), static_cast<float>(z[k].y()));
-    }
+    for (size_t k = 0; k < kept.size(); ++k) use(kept[k], z[k], pred[kept[k]].h, &out);
   }
   return out;
 }

@@ -92,6 +92,8 @@ class BoardCornerMeasurer {
   };
   std::vector<CornerPrediction> predict(const EkfState& state, const cv::Mat& grey) const;
   int refineHalfWindow(double square_px) const;
+  // Corner `id` measured at z (prediction h) goes to the update and is tracked into the next frame.
+  void use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out);
   // The measurement within the corner's innovation gate (chi-square, 2 dof, options_.gate).
   bool withinGate(const CornerPrediction& p, const Vec2& measured) const;
   // A board detection in the region where the filter predicts the board; empty if none.
