@@ -1,9 +1,5 @@
 #include "hybrid/hybrid_tracker.h"
 
-#include <cmath>
-
-#include <Eigen/Eigenvalues>
-
 #include "core/chessboard.h"
 #include "core/error.h"
 #include "core/options.h"
