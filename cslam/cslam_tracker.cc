@@ -55,7 +55,7 @@ CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTa
   }
   if (camera_) {
     focal_px_ = 0.5 * (camera_->fx + camera_->fy);
-    map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+    makeMap();
   } else {
     calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
   }
@@ -80,7 +80,21 @@ void CslamTracker::finish() {
     throw InputError("", "the board never appeared, and calibration mode poses frames from the board only");
 }
 
-std::vector<MapPoint> CslamTracker::mapPoints() const { return map_ ? map_->points() : std::vector<MapPoint>{}; }
+std::vector<MapPoint> CslamTracker::mapPoints() const {
+  if (window_) return window_->points();
+  return map_ ? map_->points() : std::vector<MapPoint>{};
+}
+
+void CslamTracker::makeMap() {
+  if (mode_ == Mode::Combined && options_.refinement.enabled)
+    window_ = std::make_unique<KeyframeWindow>(options_.refinement, focal_px_, corners_world_);
+  else
+    map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+}
+
+std::optional<Vec3> CslamTracker::mapPosition(int feature_id) const {
+  return window_ ? window_->position(feature_id) : map_->position(feature_id);
+}
 
 std::vector<Vec2> CslamTracker::featuresNormalised() const {
   std::vector<Vec2> xy;
@@ -103,7 +117,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
       camera_ = calibrated->camera;
       calibration_rms_px_ = calibrated->rms_px;
       focal_px_ = 0.5 * (camera_->fx + camera_->fy);
-      map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+      makeMap();
       calibrator_.reset();
       if (!gathered_.empty() && gathered_.back().frame_index == frame.index) gathered_.pop_back();  // posed below
       result->late_poses = posesOfGatheringFrames();
@@ -116,7 +130,9 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
   return false;
 }
 
-std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResult* result) {
+std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::Mat& grey,
+                                                                      const std::optional<SE3>& T_world_predicted,
+                                                                      FrameResult* result) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   // A full search costs up to seconds on a cluttered frame with part of the board or none: skip it
   // while the last pose says the board is not well inside the image.
@@ -129,20 +145,30 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
                        camera_->inImage(camera_->project(p_camera), options_.board.search_margin_px);
     }
   }
-  // A symmetric board's origin is kept by continuity with the last posed frame.
-  auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected,
-                             history_.empty() ? nullptr : &history_.back().T_world_camera);
+  // The corners are tracked from where the predicted pose puts them, and a lost board is looked
+  // for there (a symmetric board's origin is kept by continuity with it); the last posed frame's
+  // pose stands in when this one cannot be predicted.
+  const SE3* T_world_reference = T_world_predicted   ? &*T_world_predicted
+                                 : history_.empty() ? nullptr
+                                                    : &history_.back().T_world_camera;
+  auto corners = board_.findCorners(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, *camera_,
+                                    T_world_reference, board_expected);
   if (!corners) return std::nullopt;
-  result->measured = static_cast<int>(corners->size());
+  result->measured = static_cast<int>(corners->ids.size());
+  if (!corners->complete)
+    result->reason = "part of the board (" + std::to_string(corners->ids.size()) + " of " +
+                     std::to_string(target_.numCorners()) + " corners)";
   return boardView(std::move(*corners));
 }
 
-CslamTracker::BoardView CslamTracker::boardView(std::vector<cv::Point2f> uv) const {
+CslamTracker::BoardView CslamTracker::boardView(BoardCorners corners) const {
   BoardView view;
-  view.uv = std::move(uv);
+  view.ids = std::move(corners.ids);
+  view.uv = std::move(corners.uv);
   view.xy.reserve(view.uv.size());
   for (const auto& c : view.uv) view.xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
-  const BoardPose pose = boardPose(corners_world_, view.xy, focal_px_, options_.board_pose);
+  for (int id : view.ids) view.p_world.push_back(corners_world_[id]);
+  const BoardPose pose = boardPose(view.p_world, view.xy, focal_px_, options_.board_pose);
   view.T_world_camera = pose.T_camera_board.inverse();
   view.rms_px = pose.rms_px;
   return view;
@@ -153,14 +179,20 @@ std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
   // symmetric board's origin is already the same in all of them and in the frames to come.
   std::vector<LatePose> late;
   late.reserve(gathered_.size());
-  for (const GatheredCorners& g : gathered_)
-    late.push_back({g.frame_index, "board", boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())});
+  for (const GatheredCorners& g : gathered_) {
+    BoardCorners corners;
+    corners.uv = g.uv;
+    corners.ids.resize(g.uv.size());
+    for (size_t k = 0; k < g.uv.size(); ++k) corners.ids[k] = static_cast<int>(k);
+    corners.complete = true;
+    late.push_back({g.frame_index, "board", boardView(std::move(corners)).T_world_camera, static_cast<int>(g.uv.size())});
+  }
   gathered_.clear();
   return late;
 }
 
 SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result) {
-  const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), corners_world_, board.xy,
+  const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), board.p_world, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
   // The features' pose against the map (its error cancels in the frame-to-frame motion).
   const MapCorrespondences seen = mapPointsSeen(xy);
@@ -251,6 +283,31 @@ SE3 CslamTracker::predictedPose() const {
   return last.T_world_camera * (before.T_world_camera.inverse() * last.T_world_camera);
 }
 
+std::vector<cv::Point2f> CslamTracker::predictedFeatures(const SE3& T_world_predicted) const {
+  const PosedFrame& prev = history_.back();
+  const SE3 T_predicted_world = T_world_predicted.inverse();
+  const Mat3 R_predicted_prev = T_predicted_world.R() * prev.T_world_camera.R();
+  std::vector<cv::Point2f> uv;
+  uv.reserve(features_.features().size());
+  for (const Feature& f : features_.features()) {
+    // A map point where the predicted pose projects it; a feature without one turned by the
+    // predicted rotation (its depth unknown: right for distant points and for turns).
+    Vec3 p_camera(0, 0, -1);
+    if (const auto p = mapPosition(f.id)) {
+      p_camera = T_predicted_world * *p;
+    } else if (const auto it = prev.xy_normalised.find(f.id); it != prev.xy_normalised.end()) {
+      p_camera = R_predicted_prev * it->second.homogeneous();
+    }
+    Vec2 q(f.uv.x, f.uv.y);
+    if (p_camera.z() > 1e-3) {
+      const Vec2 projected = camera_->project(p_camera);
+      if (camera_->inImage(projected, -50)) q = projected;
+    }
+    uv.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+  }
+  return uv;
+}
+
 std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std::string* failure,
                                                FrameResult* result) {
   const auto& features = features_.features();
@@ -284,7 +341,7 @@ std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std:
   std::vector<double> ratios;
   for (size_t k = 0; k < common.size(); ++k) {
     if (!motion.inliers[k]) continue;
-    const auto p = map_->position(features[common[k]].id);
+    const auto p = mapPosition(features[common[k]].id);
     if (!p) continue;
     const Ray ray_ref{Vec3::Zero(), xy_ref[k].homogeneous().normalized()};
     const Ray ray_cur = rayFromObservation(T_ref_cur_unit, xy_cur[k]);
@@ -332,17 +389,24 @@ FrameResult CslamTracker::track(const Frame& frame) {
 
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
+  // The motion model's pose for this frame, when the previous frame was posed.
+  std::optional<SE3> T_world_predicted;
+  if (last_pose_ && !history_.empty()) T_world_predicted = predictedPose();
 
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
   std::optional<BoardView> board;
-  if (use_board && (board = boardPoseInFrame(frame.grey, &result))) {
+  if (use_board && (board = boardPoseInFrame(frame.grey, T_world_predicted, &result))) {
     T_world_camera = board->T_world_camera;
     result.status = TrackStatus::Tracked;
     result.source = "board";
   }
 
-  if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
+  if (!pyramid_prev_.empty()) {
+    std::vector<cv::Point2f> predicted;
+    if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
+    features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
+  }
   std::vector<Vec2> xy = featuresNormalised();
 
   if (!T_world_camera) {
@@ -367,10 +431,22 @@ FrameResult CslamTracker::track(const Frame& frame) {
   if (T_world_camera) {
     xy = featuresNormalised();
     PosedFrame posed{frame.index, *T_world_camera, {}};
+    std::vector<int> ids;
+    ids.reserve(xy.size());
     for (size_t i = 0; i < xy.size(); ++i) {
       const int id = features_.features()[i].id;
-      map_->addObservation(id, *T_world_camera, xy[i]);
+      if (map_) map_->addObservation(id, *T_world_camera, xy[i]);
       posed.xy_normalised.emplace(id, xy[i]);
+      ids.push_back(id);
+    }
+    if (window_ && window_->wantsKeyframe(frame.index, *T_world_camera, ids, board.has_value())) {
+      Keyframe keyframe{frame.index, *T_world_camera, posed.xy_normalised, {}, {}};
+      if (board) keyframe.board_ids = board->ids, keyframe.board_xy = board->xy;
+      const KeyframeWindow::Added added = window_->add(std::move(keyframe));
+      // Without the board the window's refinement is the best pose; with it, the board fused with
+      // the motion stands (the window refines the map around it).
+      if (!board) T_world_camera = posed.T_world_camera = added.T_world_camera;
+      if (added.reanchored) result.reason = "board back: the gap's keyframes and map points re-anchored";
     }
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
@@ -386,7 +462,8 @@ FrameResult CslamTracker::track(const Frame& frame) {
     // Two-view chaining broke: the board, when it comes back, starts the chain again.
     if (mode_ == Mode::TwoView) two_view_board_phase_ = true;
   }
-  for (const int id : features_.ended()) map_->forgetIfUnusable(id);
+  if (map_)
+    for (const int id : features_.ended()) map_->forgetIfUnusable(id);
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;
@@ -396,7 +473,7 @@ CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<V
   MapCorrespondences m;
   const auto& features = features_.features();
   for (size_t i = 0; i < features.size(); ++i) {
-    if (const auto p = map_->position(features[i].id)) {
+    if (const auto p = mapPosition(features[i].id)) {
       m.p_world.push_back(*p);
       m.xy_normalised.push_back(xy[i]);
     }

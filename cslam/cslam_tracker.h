@@ -4,12 +4,16 @@
 // across the whole image and triangulated into the map from every posed frame.
 //
 // Modes: "calibration" (board only; frames without it are lost), "two_view" (the board only until
-// the map is built, then two-view motion), "combined" (default: board when seen, fused with the
-// features' frame-to-frame motion; two-view otherwise). A two-view motion is never chained
-// blindly: it and the motion-predicted pose are both refined on the map's points and the better
-// fit stands (a planar scene, a tiny baseline or a pure rotation leave the essential matrix
-// degenerate; the map then poses the frame). Without a camera the first frames gather board views
-// for self-calibration (status initialising).
+// the map is built, then two-view motion chained from frame to frame, as the thesis),
+// "combined" (default: board when seen, fused with the features' frame-to-frame motion; two-view
+// otherwise, on a map refined over a sliding window of keyframes by bundle adjustment, with the
+// board's corners as known points while it is seen and the gap re-anchored when it returns:
+// cslam/keyframe_window.h). A two-view motion is never chained blindly: it and the
+// motion-predicted pose are both refined on the map's points and the better fit stands (a planar
+// scene, a tiny baseline or a pure rotation leave the essential matrix degenerate; the map then
+// poses the frame). A board partly out of the image poses the frame from the corners that remain;
+// the board is re-acquired where the predicted pose projects it. Without a camera the first
+// frames gather board views for self-calibration (status initialising).
 #include <deque>
 #include <memory>
 #include <optional>
@@ -22,6 +26,7 @@
 #include "tracking/board_corner_tracker.h"
 #include "cslam/board_odometry_fusion.h"
 #include "cslam/feature_map.h"
+#include "cslam/keyframe_window.h"
 #include "tracking/feature_tracker.h"
 #include "geometry/homography_pose.h"
 #include "core/self_calibration.h"
@@ -44,6 +49,7 @@ struct CslamOptions {
   PoseRefinementOptions map_refinement{10, 2.0};  // poses refined on the map's points (two-view, fusion)
   double max_map_error_px = 2.0;  // a two-view pose whose median map reprojection error exceeds this is lost
   FeatureMapOptions map;
+  KeyframeWindowOptions refinement;
   BoardOdometryFusionOptions fusion;
   int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
   SelfCalibrationOptions calibration;
@@ -63,7 +69,10 @@ struct CslamOptions {
     v("map_refinement", map_refinement, "refinement of a pose on the map's points (two-view motion, fusion)");
     v("max_map_error_px", max_map_error_px,
       "a two-view pose whose median reprojection error of map points exceeds this is lost, pixels");
-    v("map", map, "triangulation of the features (thesis Algorithm 3.1)");
+    v("map", map, "triangulation of the features (thesis Algorithm 3.1; calibration and two_view modes)");
+    v("refinement", refinement,
+      "combined mode: the map from keyframes refined over a sliding window by bundle adjustment, re-anchored "
+      "when the board returns");
     v("fusion", fusion, "combined mode: each board pose fused with the features' frame-to-frame motion");
     v("two_view_init_map_points", two_view_init_map_points,
       "two_view mode: the board sets the world frame and scale until the map holds this many points");
@@ -100,15 +109,21 @@ class CslamTracker : public Tracker {
     std::unordered_map<int, Vec2> xy_normalised;  // feature id -> undistorted normalised coordinates
   };
 
+  void makeMap();  // once the camera is known: the refined map (combined mode) or the thesis's
   bool gatherCalibrationViews(const Frame& frame, FrameResult* result);
   struct BoardView {
     SE3 T_world_camera;            // from the board alone
+    std::vector<int> ids;          // the corners seen (all of them, or the part in the image)
     std::vector<cv::Point2f> uv;   // corners, distorted pixels
     std::vector<Vec2> xy;          // corners, undistorted normalised
+    std::vector<Vec3> p_world;     // corners, world frame
     double rms_px = 0;             // reprojection error of the board pose
   };
-  std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, FrameResult* result);
-  BoardView boardView(std::vector<cv::Point2f> uv) const;  // the pose from the corners
+  // T_world_predicted: this frame's pose as the motion predicts it (tracking starts there; a lost
+  // board is searched for where it puts it).
+  std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, const std::optional<SE3>& T_world_predicted,
+                                            FrameResult* result);
+  BoardView boardView(BoardCorners corners) const;  // the pose from the corners
   // The frames that gathered calibration views, posed now that the camera is known.
   std::vector<LatePose> posesOfGatheringFrames();
   // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
@@ -118,6 +133,10 @@ class CslamTracker : public Tracker {
   // or empty with *failure saying why.
   std::optional<SE3> essentialPose(const std::vector<Vec2>& xy, std::string* failure, FrameResult* result);
   SE3 predictedPose() const;  // from the last posed frames, for the map refinement to start from
+  // Where the features of the previous (posed) frame should be now if the camera is at
+  // T_world_predicted: map points projected, the others turned by the predicted rotation.
+  std::vector<cv::Point2f> predictedFeatures(const SE3& T_world_predicted) const;
+  std::optional<Vec3> mapPosition(int feature_id) const;  // the refined map's in combined mode
   // Drops the features (and their entries of *xy) off their epipolar line from the last posed frame.
   void dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy);
   std::vector<Vec2> featuresNormalised() const;
@@ -143,7 +162,8 @@ class CslamTracker : public Tracker {
   BoardCornerTracker board_;
   FeatureTracker features_;
   BoardOdometryFusion fusion_;
-  std::unique_ptr<FeatureMap> map_;
+  std::unique_ptr<FeatureMap> map_;        // calibration and two_view modes (and combined without refinement)
+  std::unique_ptr<KeyframeWindow> window_;  // combined mode's refined map
   std::unique_ptr<SelfCalibrator> calibrator_;
   int calibration_frames_ = 0;
   struct GatheredCorners {

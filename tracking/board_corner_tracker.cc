@@ -1,7 +1,10 @@
 #include "tracking/board_corner_tracker.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
 #include "core/error.h"
@@ -14,10 +17,53 @@ void BoardCornerTrackerOptions::check() const {
   if (!(max_refine_shift_px > 0)) throw OptionError("max_refine_shift_px", "must be positive");
   if (search_margin_px < 0) throw OptionError("search_margin_px", "must be >= 0");
   if (search_interval_when_lost < 1) throw OptionError("search_interval_when_lost", "must be >= 1");
+  if (min_partial_corners != 0 && min_partial_corners < 6)
+    throw OptionError("min_partial_corners", "must be 0 (whole boards only) or >= 6");
+  if (!(max_prediction_error_px >= 1)) throw OptionError("max_prediction_error_px", "must be >= 1");
+  if (!(min_square_contrast > 0)) throw OptionError("min_square_contrast", "must be positive");
 }
+
+namespace {
+
+const cv::TermCriteria kCoarseLk(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 10, 0.1);
+
+Vec2 gridOf(const ChessboardTarget& t, int id) { return Vec2(id % t.cols, id / t.cols); }
+
+// Smallest distance between two corners of `c` that are neighbours on the grid, pixels.
+double subsetSpacing(const ChessboardTarget& t, const BoardCorners& c) {
+  std::vector<int> at(t.numCorners(), -1);
+  for (size_t k = 0; k < c.ids.size(); ++k) at[c.ids[k]] = static_cast<int>(k);
+  double best = 1e30;
+  for (size_t k = 0; k < c.ids.size(); ++k) {
+    const int i = c.ids[k] % t.cols, j = c.ids[k] / t.cols;
+    if (i + 1 < t.cols && at[c.ids[k] + 1] >= 0) best = std::min<double>(best, cv::norm(c.uv[at[c.ids[k] + 1]] - c.uv[k]));
+    if (j + 1 < t.rows && at[c.ids[k] + t.cols] >= 0)
+      best = std::min<double>(best, cv::norm(c.uv[at[c.ids[k] + t.cols]] - c.uv[k]));
+  }
+  return best;
+}
+
+// The sub-pixel window's half side for corners `spacing` pixels apart: as core's
+// refineChessboardCorners (a window under refine_window_fraction of a square).
+int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
+  return std::clamp(static_cast<int>((options.refine_window_fraction * spacing - 1) / 2), 1,
+                    options.max_refine_half_window);
+}
+
+}  // namespace
 
 BoardCornerTracker::BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options)
     : target_(target), options_(options) {}
+
+int BoardCornerTracker::minCorners() const {
+  return options_.min_partial_corners > 0 ? std::min(options_.min_partial_corners, target_.numCorners())
+                                          : target_.numCorners();
+}
+
+double BoardCornerTracker::refineMarginPx(const BoardCorners& corners) const {
+  const double spacing = subsetSpacing(target_, corners);
+  return spacing < 1e29 ? refineHalfWindow(spacing, options_.detector) + 2.0 : 2.0;
+}
 
 bool BoardCornerTracker::confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv,
                                  const CameraModel& camera) const {
@@ -39,6 +85,173 @@ bool BoardCornerTracker::confirm(const cv::Mat& grey, std::vector<cv::Point2f>& 
   return orderChessboardCorners(grey, target_, ordered) && ordered.front() == uv.front();
 }
 
+double BoardCornerTracker::squareContrast(const cv::Mat& grey, const BoardCorners& c) const {
+  std::vector<int> at(target_.numCorners(), -1);
+  for (size_t k = 0; k < c.ids.size(); ++k) at[c.ids[k]] = static_cast<int>(k);
+  std::vector<cv::Point2f> grid;
+  for (int id : c.ids) grid.emplace_back(static_cast<float>(id % target_.cols), static_cast<float>(id / target_.cols));
+  const cv::Mat H = cv::findHomography(grid, c.uv, 0);
+  if (H.empty()) return 0;
+  const cv::Matx33d Hm(H);
+  // The square diagonally outside corner 0, centred at (-0.5, -0.5), is black (SPEC section 2), so
+  // the square centred at (i + 0.5, j + 0.5) is black when i + j is even. Only squares whose four
+  // corners were found are sampled (they are in the image).
+  double sum[2] = {0, 0};
+  int n[2] = {0, 0};
+  for (int j = 0; j + 1 < target_.rows; ++j)
+    for (int i = 0; i + 1 < target_.cols; ++i) {
+      const int id = j * target_.cols + i;
+      if (at[id] < 0 || at[id + 1] < 0 || at[id + target_.cols] < 0 || at[id + target_.cols + 1] < 0) continue;
+      const int white = (i + j) % 2;
+      for (double di : {-0.2, 0.0, 0.2})
+        for (double dj : {-0.2, 0.0, 0.2}) {
+          const cv::Vec3d p = Hm * cv::Vec3d(i + 0.5 + di, j + 0.5 + dj, 1.0);
+          const int u = static_cast<int>(std::lround(p[0] / p[2]));
+          const int v = static_cast<int>(std::lround(p[1] / p[2]));
+          if (u < 0 || v < 0 || u >= grey.cols || v >= grey.rows) continue;
+          sum[white] += grey.at<uchar>(v, u);
+          ++n[white];
+        }
+    }
+  if (!n[0] || !n[1]) return 0;
+  return sum[1] / n[1] - sum[0] / n[0];
+}
+
+bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, const CameraModel& camera) const {
+  if (static_cast<int>(c->ids.size()) < minCorners()) return false;
+  const std::vector<cv::Point2f> start = c->uv;
+  const int half = refineHalfWindow(subsetSpacing(target_, *c), options_.detector);
+  cv::cornerSubPix(grey, c->uv, cv::Size(half, half), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
+  // A corner the refinement moves far was not where tracking or the prediction put it (or is no
+  // longer a corner): it is dropped, the rest stand.
+  BoardCorners kept;
+  for (size_t k = 0; k < c->ids.size(); ++k) {
+    const Vec2 uv(c->uv[k].x, c->uv[k].y);
+    if (cv::norm(c->uv[k] - start[k]) > options_.max_refine_shift_px || !camera.inImage(uv, half)) continue;
+    kept.ids.push_back(c->ids[k]);
+    kept.uv.push_back(c->uv[k]);
+  }
+  if (static_cast<int>(kept.ids.size()) < minCorners()) return false;
+  kept.complete = static_cast<int>(kept.ids.size()) == target_.numCorners();
+  // The grid must still be a plane seen through the lens: a homography from the board to the
+  // undistorted corners fits them all.
+  std::vector<Vec2> plane, undistorted;
+  for (size_t k = 0; k < kept.ids.size(); ++k) {
+    plane.push_back(gridOf(target_, kept.ids[k]));
+    undistorted.push_back(camera.undistortToPixel(Vec2(kept.uv[k].x, kept.uv[k].y)));
+  }
+  double sum = 0;
+  for (double e : homographyErrors(homographyDlt(plane, undistorted), plane, undistorted)) sum += e * e;
+  if (std::sqrt(sum / static_cast<double>(kept.ids.size())) > options_.max_grid_error_px) return false;
+  // A slip of the grid by one square keeps it consistent but swaps the squares' colours.
+  if (parity_ * squareContrast(grey, kept) < options_.min_square_contrast) return false;
+  *c = std::move(kept);
+  return true;
+}
+
+BoardCorners BoardCornerTracker::withReenteringCorners(const BoardCorners& c, const CameraModel& camera) const {
+  if (c.complete || options_.min_partial_corners == 0) return c;
+  // The homography from the grid to the undistorted normalised corners puts the missing ones.
+  std::vector<Vec2> plane, xy;
+  for (size_t k = 0; k < c.ids.size(); ++k) {
+    plane.push_back(gridOf(target_, c.ids[k]));
+    xy.push_back(camera.undistortPixel(Vec2(c.uv[k].x, c.uv[k].y)));
+  }
+  const Mat3 H = homographyDlt(plane, xy);
+  const double margin = refineMarginPx(c);
+  std::vector<char> have(target_.numCorners(), 0);
+  for (int id : c.ids) have[id] = 1;
+  BoardCorners out;
+  size_t k = 0;
+  for (int id = 0; id < target_.numCorners(); ++id) {
+    if (have[id]) {
+      out.ids.push_back(id);
+      out.uv.push_back(c.uv[k++]);
+      continue;
+    }
+    const Vec3 p = H * gridOf(target_, id).homogeneous();
+    if (!(p.z() > 0)) continue;  // the plane's horizon: never in the image
+    const Vec2 uv = camera.project(p / p.z());
+    if (!camera.inImage(uv, margin)) continue;
+    out.ids.push_back(id);
+    out.uv.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+  }
+  out.complete = static_cast<int>(out.ids.size()) == target_.numCorners();
+  return out;
+}
+
+std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& grey, const CameraModel& camera,
+                                                                 const SE3& T_world_camera) const {
+  const SE3 T_camera_world = T_world_camera.inverse();
+  const std::vector<Vec3> corners = target_.cornersWorld();
+  BoardCorners all;
+  for (int id = 0; id < target_.numCorners(); ++id) {
+    const Vec3 p = T_camera_world * corners[id];
+    if (!(p.z() > 0)) continue;
+    const Vec2 uv = camera.project(p);
+    if (!camera.inImage(uv, -100)) continue;
+    all.ids.push_back(id);
+    all.uv.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+  }
+  const double spacing = subsetSpacing(target_, all);
+  if (spacing > 1e29) return std::nullopt;
+  // Align within a radius that cannot reach the next corner.
+  const int radius = static_cast<int>(std::min(options_.max_prediction_error_px, 0.4 * spacing));
+  constexpr int kBlock = 5;
+  const int pad = radius + kBlock;
+  const double margin = refineHalfWindow(spacing, options_.detector) + 2.0 + radius;
+  BoardCorners in;
+  for (size_t k = 0; k < all.ids.size(); ++k) {
+    if (!camera.inImage(Vec2(all.uv[k].x, all.uv[k].y), std::max<double>(margin, pad + 1))) continue;
+    in.ids.push_back(all.ids[k]);
+    in.uv.push_back(all.uv[k]);
+  }
+  if (static_cast<int>(in.ids.size()) < minCorners()) return std::nullopt;
+  // Each predicted corner's strongest corner response (smallest eigenvalue of the structure
+  // tensor) within the radius; their median shift moves the whole prediction.
+  std::vector<float> dx, dy;
+  cv::Mat response;
+  for (const cv::Point2f& p : in.uv) {
+    const cv::Point centre(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+    const cv::Rect roi(centre.x - pad, centre.y - pad, 2 * pad + 1, 2 * pad + 1);
+    cv::cornerMinEigenVal(grey(roi), response, kBlock, 3);
+    cv::Point best;
+    cv::minMaxLoc(response(cv::Rect(kBlock, kBlock, 2 * radius + 1, 2 * radius + 1)), nullptr, nullptr, nullptr, &best);
+    dx.push_back(static_cast<float>(best.x - radius) + static_cast<float>(centre.x) - p.x);
+    dy.push_back(static_cast<float>(best.y - radius) + static_cast<float>(centre.y) - p.y);
+  }
+  std::vector<float> sx = dx, sy = dy;
+  std::nth_element(sx.begin(), sx.begin() + sx.size() / 2, sx.end());
+  std::nth_element(sy.begin(), sy.begin() + sy.size() / 2, sy.end());
+  const cv::Point2f shift(sx[sx.size() / 2], sy[sy.size() / 2]);
+  // Most corners must agree on the shift: a board, not texture.
+  int agree = 0;
+  for (size_t k = 0; k < dx.size(); ++k) agree += std::hypot(dx[k] - shift.x, dy[k] - shift.y) <= 2.0;
+  if (2 * agree < static_cast<int>(dx.size())) return std::nullopt;
+  for (cv::Point2f& p : in.uv) p += shift;
+  return in;
+}
+
+std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey, const CameraModel* camera,
+                                                           const SE3* T_world_camera) {
+  std::vector<cv::Point2f> uv;
+  if (!detectChessboard(grey, target_, &uv, options_.detector)) return std::nullopt;
+  if (target_.symmetric()) {
+    std::vector<cv::Point2f> predicted;
+    if (camera && T_world_camera) predicted = projectBoardCorners(*camera, target_, *T_world_camera);
+    chooseSymmetricOrder(target_, uv, predicted.empty() ? last_seen_ : predicted);
+  }
+  BoardCorners c;
+  c.uv = last_seen_ = uv;
+  c.ids.resize(uv.size());
+  for (size_t k = 0; k < uv.size(); ++k) c.ids[k] = static_cast<int>(k);
+  c.complete = true;
+  // A symmetric board's numbering may put a white square outside corner 0: kept from here on.
+  if (target_.symmetric()) parity_ = squareContrast(grey, c) < 0 ? -1.0 : 1.0;
+  return c;
+}
+
 std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& grey,
                                                                  const std::vector<cv::Mat>& pyramid_prev,
                                                                  const std::vector<cv::Mat>& pyramid,
@@ -46,40 +259,103 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
                                                                  const CameraModel* camera, bool allow_search,
                                                                  const SE3* T_world_camera_last) {
   last_tracked_ = false;
-  if (options_.track && camera && !corners_.empty() && !pyramid_prev.empty()) {
+  last_found_ = BoardFound::None;
+  if (options_.track && camera && corners_.complete && !pyramid_prev.empty()) {
     std::vector<cv::Point2f> uv;
     std::vector<uchar> status;
     std::vector<float> error;
     // Coarse convergence is enough: the corners are refined by cornerSubPix next.
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_, uv, status, error, lk_window, lk_levels,
-                             cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 10, 0.1));
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, error, lk_window, lk_levels, kCoarseLk);
     bool all = true;
     for (size_t i = 0; i < uv.size() && all; ++i)
       all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
     if (all && confirm(grey, uv, *camera)) {
-      corners_ = last_seen_ = uv;
+      corners_.uv = last_seen_ = uv;
       last_tracked_ = true;
-      return corners_;
+      last_found_ = BoardFound::Tracked;
+      return corners_.uv;
     }
   }
   // Full search: at once when tracking fails, then every search_interval_when_lost frames.
-  corners_.clear();
+  corners_ = {};
   if (!allow_search) return std::nullopt;
   if (frames_until_search_ > 0) {
     --frames_until_search_;
     return std::nullopt;
   }
   frames_until_search_ = options_.search_interval_when_lost - 1;
-  std::vector<cv::Point2f> uv;
-  if (!detectChessboard(grey, target_, &uv, options_.detector)) return std::nullopt;
-  if (target_.symmetric()) {
-    std::vector<cv::Point2f> predicted;
-    if (camera && T_world_camera_last) predicted = projectBoardCorners(*camera, target_, *T_world_camera_last);
-    chooseSymmetricOrder(target_, uv, predicted.empty() ? last_seen_ : predicted);
-  }
-  corners_ = last_seen_ = uv;
+  auto found = fullSearch(grey, camera, T_world_camera_last);
+  if (!found) return std::nullopt;
+  corners_ = std::move(*found);
   frames_until_search_ = 0;
-  return corners_;
+  last_found_ = BoardFound::Searched;
+  return corners_.uv;
+}
+
+std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
+                                                            const std::vector<cv::Mat>& pyramid_prev,
+                                                            const std::vector<cv::Mat>& pyramid, cv::Size lk_window,
+                                                            int lk_levels, const CameraModel& camera,
+                                                            const SE3* T_world_camera_predicted, bool allow_search) {
+  last_tracked_ = false;
+  last_found_ = BoardFound::None;
+  const auto accept = [&](BoardCorners c, BoardFound how) {
+    corners_ = std::move(c);
+    if (corners_.complete) last_seen_ = corners_.uv;
+    last_tracked_ = how == BoardFound::Tracked;
+    last_found_ = how;
+    frames_until_search_ = 0;
+    return corners_;
+  };
+  if (options_.track && !corners_.ids.empty() && !pyramid_prev.empty()) {
+    // Lucas-Kanade from where the predicted pose puts the corners (a fast turn moves them tens of
+    // pixels), else from where they were.
+    std::vector<cv::Point2f> uv = corners_.uv;
+    int flags = 0;
+    if (T_world_camera_predicted) {
+      const SE3 T_camera_world = T_world_camera_predicted->inverse();
+      const std::vector<Vec3> corners = target_.cornersWorld();
+      std::vector<cv::Point2f> predicted;
+      for (int id : corners_.ids) {
+        const Vec3 p = T_camera_world * corners[id];
+        if (!(p.z() > 0)) break;
+        const Vec2 q = camera.project(p);
+        predicted.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+      }
+      if (predicted.size() == corners_.ids.size()) uv = std::move(predicted), flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+    }
+    std::vector<uchar> status;
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, error, lk_window, lk_levels, kCoarseLk,
+                             flags);
+    const double margin = refineMarginPx(corners_);
+    BoardCorners tracked;
+    for (size_t k = 0; k < uv.size(); ++k) {
+      if (!status[k] || !camera.inImage(Vec2(uv[k].x, uv[k].y), margin)) continue;
+      tracked.ids.push_back(corners_.ids[k]);
+      tracked.uv.push_back(uv[k]);
+    }
+    tracked.complete = static_cast<int>(tracked.ids.size()) == target_.numCorners();
+    if (static_cast<int>(tracked.ids.size()) >= minCorners()) {
+      BoardCorners c = withReenteringCorners(tracked, camera);
+      if (confirmCorners(grey, &c, camera)) return accept(std::move(c), BoardFound::Tracked);
+    }
+  }
+  corners_ = {};
+  if (T_world_camera_predicted && options_.predicted_search) {
+    if (auto c = predictedCorners(grey, camera, *T_world_camera_predicted))
+      if (confirmCorners(grey, &*c, camera)) return accept(std::move(*c), BoardFound::Predicted);
+  }
+  // Full search: at once when the board is lost, then every search_interval_when_lost frames.
+  if (!allow_search) return std::nullopt;
+  if (frames_until_search_ > 0) {
+    --frames_until_search_;
+    return std::nullopt;
+  }
+  frames_until_search_ = options_.search_interval_when_lost - 1;
+  auto found = fullSearch(grey, &camera, T_world_camera_predicted);
+  if (!found) return std::nullopt;
+  return accept(std::move(*found), BoardFound::Searched);
 }
 
 }  // namespace slamcmp
