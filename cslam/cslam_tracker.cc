@@ -25,6 +25,8 @@ void CslamOptions::check() const {
 
 namespace {
 
+constexpr int kMaxFramesPredicted = 5;  // the motion model predicts at most this many frames past the last pose
+
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
@@ -231,13 +233,22 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<V
 
 std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
   // Map points seen now: their positions fix the scale and refine the pose.
-  const MapCorrespondences seen = mapPointsSeen(xy);
-  const std::vector<Vec3>& p_world = seen.p_world;
-  const std::vector<Vec2>& xy_map = seen.xy_normalised;
-  const bool map_usable = static_cast<int>(p_world.size()) >= options_.min_scale_points;
-
+  MapCorrespondences seen = mapPointsSeen(xy);
+  bool map_usable = static_cast<int>(seen.p_world.size()) >= options_.min_scale_points;
   std::string essential_failure;
   std::optional<SE3> T_world_essential = essentialPose(xy, &essential_failure, result);
+  // In a fast turn the features that enter the image have too little parallax to be map points
+  // for a while; the refinement has placed them all the same (their directions hold the rotation).
+  bool barely_triangulated = false;
+  if (!map_usable && window_) {
+    MapCorrespondences all = mapPointsSeen(xy, true);
+    if (static_cast<int>(all.p_world.size()) >= options_.min_scale_points) {
+      seen = std::move(all);
+      map_usable = barely_triangulated = true;
+    }
+  }
+  const std::vector<Vec3>& p_world = seen.p_world;
+  const std::vector<Vec2>& xy_map = seen.xy_normalised;
   if (!map_usable) {
     if (!T_world_essential) result->reason = essential_failure;
     return T_world_essential;
@@ -269,18 +280,30 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
   if (!essential_wins) {
     result->measured = static_cast<int>(p_world.size());
     result->reason = (T_world_essential ? std::string("the map rejects the two-view motion")
-                                        : essential_failure) + "; pose from the map's points";
+                                        : essential_failure) +
+                     (barely_triangulated ? "; pose from the map's points, some with little parallax"
+                                          : "; pose from the map's points");
   }
   return best.T_camera_world.inverse();
 }
 
 SE3 CslamTracker::predictedPose() const {
+  return T_world_predicted_ ? *T_world_predicted_ : history_.back().T_world_camera;
+}
+
+std::optional<SE3> CslamTracker::motionPrediction(int frame_index) const {
+  if (history_.empty()) return std::nullopt;
   const PosedFrame& last = history_.back();
-  if (history_.size() < 2 || !last_pose_) return last.T_world_camera;
-  // Constant velocity over consecutive posed frames.
+  const int ahead = frame_index - last.index;
+  if (ahead > kMaxFramesPredicted) return std::nullopt;
+  if (history_.size() < 2) return last.T_world_camera;
+  // Constant velocity over the last two consecutive posed frames, carried over frames lost since.
   const PosedFrame& before = history_[history_.size() - 2];
   if (last.index - before.index != 1) return last.T_world_camera;
-  return last.T_world_camera * (before.T_world_camera.inverse() * last.T_world_camera);
+  const SE3 step = before.T_world_camera.inverse() * last.T_world_camera;
+  SE3 T = last.T_world_camera;
+  for (int k = 0; k < ahead; ++k) T = T * step;
+  return T;
 }
 
 std::vector<cv::Point2f> CslamTracker::predictedFeatures(const SE3& T_world_predicted) const {
@@ -389,9 +412,9 @@ FrameResult CslamTracker::track(const Frame& frame) {
 
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
-  // The motion model's pose for this frame, when the previous frame was posed.
-  std::optional<SE3> T_world_predicted;
-  if (last_pose_ && !history_.empty()) T_world_predicted = predictedPose();
+  // The motion model's pose for this frame (from the last posed frames).
+  T_world_predicted_ = motionPrediction(frame.index);
+  const std::optional<SE3>& T_world_predicted = T_world_predicted_;
 
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
@@ -469,11 +492,13 @@ FrameResult CslamTracker::track(const Frame& frame) {
   return result;
 }
 
-CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy) const {
+CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy,
+                                                            bool barely_triangulated) const {
   MapCorrespondences m;
   const auto& features = features_.features();
   for (size_t i = 0; i < features.size(); ++i) {
-    if (const auto p = mapPosition(features[i].id)) {
+    const auto p = barely_triangulated && window_ ? window_->position(features[i].id, true) : mapPosition(features[i].id);
+    if (p) {
       m.p_world.push_back(*p);
       m.xy_normalised.push_back(xy[i]);
     }

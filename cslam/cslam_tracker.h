@@ -132,7 +132,9 @@ class CslamTracker : public Tracker {
   // The thesis's two-view pose (essential matrix from the reference frame, scale from the map),
   // or empty with *failure saying why.
   std::optional<SE3> essentialPose(const std::vector<Vec2>& xy, std::string* failure, FrameResult* result);
-  SE3 predictedPose() const;  // from the last posed frames, for the map refinement to start from
+  SE3 predictedPose() const;  // this frame's motion prediction, else the last posed frame's pose
+  // Constant velocity from the last two posed frames, over frames lost since (a few at most).
+  std::optional<SE3> motionPrediction(int frame_index) const;
   // Where the features of the previous (posed) frame should be now if the camera is at
   // T_world_predicted: map points projected, the others turned by the predicted rotation.
   std::vector<cv::Point2f> predictedFeatures(const SE3& T_world_predicted) const;
@@ -146,7 +148,8 @@ class CslamTracker : public Tracker {
     std::vector<Vec3> p_world;
     std::vector<Vec2> xy_normalised;
   };
-  MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy) const;
+  // barely_triangulated: also the refined map's features placed with little parallax.
+  MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy, bool barely_triangulated = false) const;
   FrameOverlay overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const;
 
   std::optional<CameraModel> camera_;
@@ -175,6 +178,7 @@ class CslamTracker : public Tracker {
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;
   std::optional<SE3> last_pose_;    // the previous frame's, if it had one
+  std::optional<SE3> T_world_predicted_;  // this frame's, by the motion model
   std::deque<PosedFrame> history_;  // the last posed frames, oldest first
   bool two_view_board_phase_ = true;
   int posed_frames_ = 0;

@@ -29,6 +29,9 @@ namespace {
 
 constexpr int kMinPointsToReanchor = 8;  // map points the returning keyframe must see to measure the drift
 constexpr int kMinSharedToFix = 5;       // an older keyframe joins the refinement (fixed) when it sees this many
+// A feature with too little parallax is placed no nearer and no farther than these (metres).
+constexpr double kMinWeakDepth = 0.1;
+constexpr double kMaxWeakDepth = 50;
 
 }  // namespace
 
@@ -67,17 +70,40 @@ void KeyframeWindow::triangulate(int id, Track& track) const {
     smallest_cos = std::min(smallest_cos, first.dot(ray.direction));
     ls.add(ray);
   }
-  if (smallest_cos > min_cos) return;
   const auto p = ls.solve();
-  if (!p) return;
-  for (int serial : track.keyframes) {
-    const Keyframe& kf = keyframe(serial);
-    const Vec3 p_camera = kf.T_world_camera.inverse() * *p;
-    if (p_camera.z() <= 0) return;
-    if (focal_px_ * (p_camera.head<2>() / p_camera.z() - kf.features.at(id)).norm() > options_.max_error_px) return;
+  const auto consistent = [&](const Vec3& point) {
+    for (int serial : track.keyframes) {
+      const Keyframe& kf = keyframe(serial);
+      const Vec3 p_camera = kf.T_world_camera.inverse() * point;
+      if (p_camera.z() <= 0) return false;
+      if (focal_px_ * (p_camera.head<2>() / p_camera.z() - kf.features.at(id)).norm() > options_.max_error_px)
+        return false;
+    }
+    return true;
+  };
+  if (smallest_cos <= min_cos) {
+    // Enough parallax: a map point (the rays' least-squares point, or the refined one it had).
+    if (p && consistent(*p)) {
+      track.p_world = *p;
+      track.initialised = track.valid = true;
+    } else if (track.initialised && consistent(track.p_world)) {
+      track.valid = true;
+    }
+    return;
   }
-  track.p_world = *p;
-  track.valid = true;
+  if (track.initialised) return;
+  // Too little parallax to place it: the refinement still uses its direction (it holds the
+  // rotation of a fast turn, where the new features are all distant or barely moved), from a
+  // depth the rays allow or the typical depth of the map when they allow none.
+  const Keyframe& newest = keyframe(track.keyframes.back());
+  const Vec3 p_camera_ls = p ? newest.T_world_camera.inverse() * *p : Vec3(0, 0, -1);
+  if (p && p_camera_ls.z() > kMinWeakDepth && p_camera_ls.z() < kMaxWeakDepth && consistent(*p)) {
+    track.p_world = *p;
+  } else {
+    track.p_world = newest.T_world_camera * (typical_depth_ * newest.features.at(id).homogeneous());
+    if (!consistent(track.p_world)) return;
+  }
+  track.initialised = true;
 }
 
 KeyframeWindow::Added KeyframeWindow::add(Keyframe kf) {
@@ -118,7 +144,7 @@ void KeyframeWindow::refine() {
   for (int s = first_free; s <= newest; ++s) {
     board = board || keyframe(s).hasBoard();
     for (const auto& [id, xy] : keyframe(s).features)
-      if (tracks_.at(id).valid) point_ids.push_back(id);
+      if (tracks_.at(id).initialised) point_ids.push_back(id);
   }
   std::sort(point_ids.begin(), point_ids.end());
   point_ids.erase(std::unique(point_ids.begin(), point_ids.end()), point_ids.end());
@@ -178,6 +204,17 @@ void KeyframeWindow::refine() {
 
   for (int s = first_free; s <= newest; ++s) keyframe(s).T_world_camera = ba.camera(camera_of.at(s)).inverse();
   for (const auto& [id, p] : point_of) tracks_.at(id).p_world = ba.point(p);
+  // The typical depth of the map points in the newest keyframe, for the features not yet placed.
+  std::vector<double> depths;
+  const SE3 T_newest_world = keyframe(newest).T_world_camera.inverse();
+  for (const auto& [id, xy] : keyframe(newest).features) {
+    const Track& track = tracks_.at(id);
+    if (track.valid) depths.push_back((T_newest_world * track.p_world).z());
+  }
+  if (depths.size() >= 5) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    typical_depth_ = std::clamp(depths[depths.size() / 2], kMinWeakDepth, kMaxWeakDepth);
+  }
   // Observations the refined map does not explain are dropped; a point left with fewer than two
   // is no longer used.
   for (size_t k = 0; k < feature_obs.size(); ++k) {
@@ -186,7 +223,7 @@ void KeyframeWindow::refine() {
     keyframe(s).features.erase(id);
     Track& track = tracks_.at(id);
     track.keyframes.erase(std::remove(track.keyframes.begin(), track.keyframes.end(), s), track.keyframes.end());
-    if (track.keyframes.size() < 2) track.valid = false;
+    if (track.keyframes.size() < 2) track.valid = track.initialised = false;
   }
 }
 
@@ -231,7 +268,7 @@ bool KeyframeWindow::reanchorGap() {
     keyframe(s).T_world_camera = corrected[s - last_board];
   }
   for (auto& [id, track] : tracks_) {
-    if (!track.valid) continue;
+    if (!track.initialised) continue;
     for (auto it = track.keyframes.rbegin(); it != track.keyframes.rend(); ++it) {
       const auto c = correction.find(*it);
       if (c == correction.end()) continue;
@@ -242,9 +279,9 @@ bool KeyframeWindow::reanchorGap() {
   return true;
 }
 
-std::optional<Vec3> KeyframeWindow::position(int id) const {
+std::optional<Vec3> KeyframeWindow::position(int id, bool barely_triangulated) const {
   const auto it = tracks_.find(id);
-  if (it == tracks_.end() || !it->second.valid) return std::nullopt;
+  if (it == tracks_.end() || !(barely_triangulated ? it->second.initialised : it->second.valid)) return std::nullopt;
   return it->second.p_world;
 }
 

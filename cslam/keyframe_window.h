@@ -81,7 +81,8 @@ class KeyframeWindow {
   };
   Added add(Keyframe keyframe);
 
-  std::optional<Vec3> position(int id) const;
+  // A feature's map point; barely_triangulated: also one placed with too little parallax.
+  std::optional<Vec3> position(int id, bool barely_triangulated = false) const;
   std::vector<MapPoint> points() const;
   int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
 
@@ -89,7 +90,8 @@ class KeyframeWindow {
   struct Track {
     std::vector<int> keyframes;  // serials of the keyframes that saw it, ascending
     Vec3 p_world = Vec3::Zero();
-    bool valid = false;          // triangulated (enough parallax, in front, consistent)
+    bool initialised = false;    // placed (refined by the window), perhaps with little parallax
+    bool valid = false;          // a map point: enough parallax, in front, consistent
   };
   Keyframe& keyframe(int serial) { return keyframes_[serial - first_serial_]; }
   const Keyframe& keyframe(int serial) const { return keyframes_[serial - first_serial_]; }
@@ -106,6 +108,7 @@ class KeyframeWindow {
   std::deque<Keyframe> keyframes_;
   int first_serial_ = 0;
   std::unordered_map<int, Track> tracks_;
+  double typical_depth_ = 1.0;  // median depth of the newest keyframe's map points, metres
 };
 
 }  // namespace slamcmp

@@ -15,6 +15,7 @@ namespace slamcmp {
 void BoardCornerTrackerOptions::check() const {
   if (!(max_grid_error_px > 0)) throw OptionError("max_grid_error_px", "must be positive");
   if (!(max_refine_shift_px > 0)) throw OptionError("max_refine_shift_px", "must be positive");
+  if (!(max_corner_error_px > 0)) throw OptionError("max_corner_error_px", "must be positive");
   if (search_margin_px < 0) throw OptionError("search_margin_px", "must be >= 0");
   if (search_interval_when_lost < 1) throw OptionError("search_interval_when_lost", "must be >= 1");
   if (min_partial_corners != 0 && min_partial_corners < 6)
@@ -24,6 +25,31 @@ void BoardCornerTrackerOptions::check() const {
 }
 
 namespace {
+
+// Mean grey level of the 3x3 pixels at grid coordinates `grid` (H maps the grid to undistorted
+// pixels), or -1 outside the image.
+double sampleGrid(const cv::Mat& grey, const CameraModel& camera, const Mat3& H, const Vec2& grid) {
+  const Vec3 u = H * grid.homogeneous();
+  if (!(u.z() > 0)) return -1;
+  const Vec2 uv = camera.project(camera.normalisedFromPixel(u.hnormalized()).homogeneous());
+  if (!uv.allFinite() || !camera.inImage(uv, 2)) return -1;
+  const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));
+  double sum = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) sum += grey.at<uchar>(y + dy, x + dx);
+  return sum / 9;
+}
+
+// A corner is dropped when the grid's homography misses it by more than max_corner_error_px and
+// by more than this many times the median corner.
+constexpr double kMaxCornerErrorOverMedian = 4.0;
+// A corner's four squares are sampled this far from it along the grid (squares): inside the
+// sub-pixel window (under half a square wide), where an occluding edge would pull the refinement.
+constexpr double kSquareSampleOffset = 0.3;
+// A side of a partial board whose squares seem to go on beyond its outer squares (more than this
+// fraction of at least this many samples) is a board slipped by two squares.
+constexpr double kMaxContinuingFraction = 0.8;
+constexpr int kMinEdgeSamples = 4;
 
 const cv::TermCriteria kCoarseLk(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 10, 0.1);
 
@@ -85,13 +111,14 @@ bool BoardCornerTracker::confirm(const cv::Mat& grey, std::vector<cv::Point2f>& 
   return orderChessboardCorners(grey, target_, ordered) && ordered.front() == uv.front();
 }
 
-double BoardCornerTracker::squareContrast(const cv::Mat& grey, const BoardCorners& c) const {
+std::optional<std::pair<double, double>> BoardCornerTracker::squareMeans(const cv::Mat& grey,
+                                                                         const BoardCorners& c) const {
   std::vector<int> at(target_.numCorners(), -1);
   for (size_t k = 0; k < c.ids.size(); ++k) at[c.ids[k]] = static_cast<int>(k);
   std::vector<cv::Point2f> grid;
   for (int id : c.ids) grid.emplace_back(static_cast<float>(id % target_.cols), static_cast<float>(id / target_.cols));
   const cv::Mat H = cv::findHomography(grid, c.uv, 0);
-  if (H.empty()) return 0;
+  if (H.empty()) return std::nullopt;
   const cv::Matx33d Hm(H);
   // The square diagonally outside corner 0, centred at (-0.5, -0.5), is black (SPEC section 2), so
   // the square centred at (i + 0.5, j + 0.5) is black when i + j is even. Only squares whose four
@@ -113,8 +140,16 @@ double BoardCornerTracker::squareContrast(const cv::Mat& grey, const BoardCorner
           ++n[white];
         }
     }
-  if (!n[0] || !n[1]) return 0;
-  return sum[1] / n[1] - sum[0] / n[0];
+  if (!n[0] || !n[1]) return std::nullopt;
+  // (black, white) as SPEC section 2 numbers the squares; parity_ turns them for a symmetric board
+  // numbered the other way round.
+  const double even = sum[0] / n[0], odd = sum[1] / n[1];
+  return parity_ > 0 ? std::make_pair(even, odd) : std::make_pair(odd, even);
+}
+
+double BoardCornerTracker::squareContrast(const cv::Mat& grey, const BoardCorners& c) const {
+  const auto means = squareMeans(grey, c);
+  return means ? means->second - means->first : 0.0;
 }
 
 bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, const CameraModel& camera) const {
@@ -133,20 +168,107 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
     kept.uv.push_back(c->uv[k]);
   }
   if (static_cast<int>(kept.ids.size()) < minCorners()) return false;
-  kept.complete = static_cast<int>(kept.ids.size()) == target_.numCorners();
   // The grid must still be a plane seen through the lens: a homography from the board to the
-  // undistorted corners fits them all.
+  // undistorted corners fits them all. A corner it does not fit (one beside the edge of something
+  // hiding part of the board: the refinement is pulled off the corner) is dropped, the worst first.
   std::vector<Vec2> plane, undistorted;
   for (size_t k = 0; k < kept.ids.size(); ++k) {
     plane.push_back(gridOf(target_, kept.ids[k]));
     undistorted.push_back(camera.undistortToPixel(Vec2(kept.uv[k].x, kept.uv[k].y)));
   }
+  // Each corner's four squares, sampled near it (within the refinement's window), must show
+  // their colours: a corner beside the edge of something hiding part of the board has the
+  // refinement pulled off it.
+  {
+    const Mat3 H = homographyDlt(plane, undistorted);
+    BoardCorners clear;
+    std::vector<Vec2> clear_plane, clear_undistorted;
+    for (size_t k = 0; k < kept.ids.size(); ++k) {
+      if (!squaresClear(grey, camera, H, plane[k])) continue;
+      clear.ids.push_back(kept.ids[k]);
+      clear.uv.push_back(kept.uv[k]);
+      clear_plane.push_back(plane[k]);
+      clear_undistorted.push_back(undistorted[k]);
+    }
+    if (static_cast<int>(clear.ids.size()) < minCorners()) return false;
+    kept = std::move(clear);
+    plane = std::move(clear_plane);
+    undistorted = std::move(clear_undistorted);
+  }
+  std::vector<double> errors;
+  for (;;) {
+    errors = homographyErrors(homographyDlt(plane, undistorted), plane, undistorted);
+    std::vector<double> sorted = errors;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double limit = std::max(options_.max_corner_error_px, kMaxCornerErrorOverMedian * sorted[sorted.size() / 2]);
+    const size_t worst = std::max_element(errors.begin(), errors.end()) - errors.begin();
+    if (errors[worst] <= limit) break;
+    if (static_cast<int>(kept.ids.size()) <= minCorners()) return false;
+    for (auto* v : {&plane, &undistorted}) v->erase(v->begin() + worst);
+    kept.ids.erase(kept.ids.begin() + worst);
+    kept.uv.erase(kept.uv.begin() + worst);
+  }
+  kept.complete = static_cast<int>(kept.ids.size()) == target_.numCorners();
   double sum = 0;
-  for (double e : homographyErrors(homographyDlt(plane, undistorted), plane, undistorted)) sum += e * e;
+  for (double e : errors) sum += e * e;
   if (std::sqrt(sum / static_cast<double>(kept.ids.size())) > options_.max_grid_error_px) return false;
   // A slip of the grid by one square keeps it consistent but swaps the squares' colours.
-  if (parity_ * squareContrast(grey, kept) < options_.min_square_contrast) return false;
+  if (squareContrast(grey, kept) < options_.min_square_contrast) return false;
+  // A slip by two squares keeps the colours too: part of a board must end where its edges say.
+  if (!kept.complete && !endsAtItsEdges(grey, camera, homographyDlt(plane, undistorted), kept)) return false;
   *c = std::move(kept);
+  return true;
+}
+
+bool BoardCornerTracker::squaresClear(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
+                                      const Vec2& grid) const {
+  const auto sample = [&](const Vec2& g) { return sampleGrid(grey, camera, H, g); };
+  // The square at (i - 0.5, j - 0.5) is black when i + j is even (SPEC section 2); parity_
+  // turns this for a symmetric board numbered the other way round.
+  const int i = static_cast<int>(grid.x()), j = static_cast<int>(grid.y());
+  const bool first_black = ((i + j) % 2 == 0) == (parity_ > 0);
+  double darkest_white = 1e9, brightest_black = -1e9;
+  for (const double di : {-kSquareSampleOffset, kSquareSampleOffset})
+    for (const double dj : {-kSquareSampleOffset, kSquareSampleOffset}) {
+      const double v = sample(grid + Vec2(di, dj));
+      if (v < 0) return false;
+      const bool black = (di < 0) == (dj < 0) ? first_black : !first_black;
+      if (black) brightest_black = std::max(brightest_black, v);
+      else darkest_white = std::min(darkest_white, v);
+    }
+  return darkest_white - brightest_black >= options_.min_square_contrast;
+}
+
+bool BoardCornerTracker::endsAtItsEdges(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
+                                        const BoardCorners& c) const {
+  const auto means = squareMeans(grey, c);
+  if (!means) return false;
+  // Beyond an edge corner the outer square ends one square out: the squares a board shifted by
+  // two squares would have there must not show (whatever does: the margin, the wall, something in
+  // front of the board, matches their alternating colours about half the time).
+  const auto looksBlack = [&](double v) { return std::abs(v - means->first) < std::abs(v - means->second); };
+  int samples[4] = {0, 0, 0, 0}, continuing[4] = {0, 0, 0, 0};
+  const Vec2 outwards[4] = {Vec2(-1, 0), Vec2(1, 0), Vec2(0, -1), Vec2(0, 1)};
+  for (int id : c.ids) {
+    const Vec2 g = gridOf(target_, id);
+    const bool on_side[4] = {g.x() == 0, g.x() == target_.cols - 1, g.y() == 0, g.y() == target_.rows - 1};
+    for (int side = 0; side < 4; ++side) {
+      if (!on_side[side]) continue;
+      const Vec2 along(outwards[side].y(), outwards[side].x());
+      for (const double half : {-0.5, 0.5}) {
+        const Vec2 centre = g + 1.5 * outwards[side] + half * along;
+        const double v = sampleGrid(grey, camera, H, centre);
+        if (v < 0) continue;
+        // Square (a, b) is black when a + b is even (SPEC section 2; parity_ turns it).
+        const int a = static_cast<int>(std::floor(centre.x())), b = static_cast<int>(std::floor(centre.y()));
+        const bool black = ((a + b) % 2 == 0) == (parity_ > 0);
+        ++samples[side];
+        continuing[side] += looksBlack(v) == black;
+      }
+    }
+  }
+  for (int side = 0; side < 4; ++side)
+    if (samples[side] >= kMinEdgeSamples && continuing[side] > kMaxContinuingFraction * samples[side]) return false;
   return true;
 }
 
@@ -196,30 +318,26 @@ std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& 
   }
   const double spacing = subsetSpacing(target_, all);
   if (spacing > 1e29) return std::nullopt;
-  // Align within a radius that cannot reach the next corner.
-  const int radius = static_cast<int>(std::min(options_.max_prediction_error_px, 0.4 * spacing));
-  constexpr int kBlock = 5;
-  const int pad = radius + kBlock;
+  // Aligned within a radius that cannot reach the next corner.
+  const int radius = std::max(3, static_cast<int>(std::min(options_.max_prediction_error_px, 0.45 * spacing)));
   const double margin = refineHalfWindow(spacing, options_.detector) + 2.0 + radius;
   BoardCorners in;
   for (size_t k = 0; k < all.ids.size(); ++k) {
-    if (!camera.inImage(Vec2(all.uv[k].x, all.uv[k].y), std::max<double>(margin, pad + 1))) continue;
+    if (!camera.inImage(Vec2(all.uv[k].x, all.uv[k].y), margin)) continue;
     in.ids.push_back(all.ids[k]);
     in.uv.push_back(all.uv[k]);
   }
   if (static_cast<int>(in.ids.size()) < minCorners()) return std::nullopt;
-  // Each predicted corner's strongest corner response (smallest eigenvalue of the structure
-  // tensor) within the radius; their median shift moves the whole prediction.
+  // Each predicted corner refined with a window as wide as the radius, almost a square (it
+  // reaches the corner from up to the radius away, and no other corner); their median shift
+  // moves the whole prediction (a pose error shifts the board as a whole).
+  std::vector<cv::Point2f> wide = in.uv;
+  cv::cornerSubPix(grey, wide, cv::Size(radius, radius), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 0.01));
   std::vector<float> dx, dy;
-  cv::Mat response;
-  for (const cv::Point2f& p : in.uv) {
-    const cv::Point centre(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
-    const cv::Rect roi(centre.x - pad, centre.y - pad, 2 * pad + 1, 2 * pad + 1);
-    cv::cornerMinEigenVal(grey(roi), response, kBlock, 3);
-    cv::Point best;
-    cv::minMaxLoc(response(cv::Rect(kBlock, kBlock, 2 * radius + 1, 2 * radius + 1)), nullptr, nullptr, nullptr, &best);
-    dx.push_back(static_cast<float>(best.x - radius) + static_cast<float>(centre.x) - p.x);
-    dy.push_back(static_cast<float>(best.y - radius) + static_cast<float>(centre.y) - p.y);
+  for (size_t k = 0; k < wide.size(); ++k) {
+    dx.push_back(wide[k].x - in.uv[k].x);
+    dy.push_back(wide[k].y - in.uv[k].y);
   }
   std::vector<float> sx = dx, sy = dy;
   std::nth_element(sx.begin(), sx.begin() + sx.size() / 2, sx.end());
@@ -248,7 +366,10 @@ std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey, 
   for (size_t k = 0; k < uv.size(); ++k) c.ids[k] = static_cast<int>(k);
   c.complete = true;
   // A symmetric board's numbering may put a white square outside corner 0: kept from here on.
-  if (target_.symmetric()) parity_ = squareContrast(grey, c) < 0 ? -1.0 : 1.0;
+  if (target_.symmetric()) {
+    parity_ = 1.0;
+    parity_ = squareContrast(grey, c) < 0 ? -1.0 : 1.0;
+  }
   return c;
 }
 

@@ -9,6 +9,7 @@
 // re-acquires a board where a predicted camera pose projects it (the predicted corners aligned and
 // refined), so the expensive full search is needed only when there is no pose to predict from.
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -29,6 +30,7 @@ struct BoardCornerTrackerOptions {
   }();
   bool track = true;                   // track last frame's corners before any full search
   double max_grid_error_px = 1.0;      // confirm: RMS homography error of the undistorted corners
+  double max_corner_error_px = 0.3;    // findCorners: a corner the homography misses by more is dropped
   double max_refine_shift_px = 2.0;    // confirm: sub-pixel refinement moves no corner further
   int search_interval_when_lost = 3;   // after a miss, full search only every this many frames
   double search_margin_px = 20;        // full search only if the last pose puts the board this far inside
@@ -44,6 +46,9 @@ struct BoardCornerTrackerOptions {
     v("track", track, "track last frame's corners by Lucas-Kanade before any full search");
     v("max_grid_error_px", max_grid_error_px,
       "tracked corners are accepted when a homography fits the undistorted grid to this RMS, pixels");
+    v("max_corner_error_px", max_corner_error_px,
+      "findCorners: a corner the homography of the others misses by more than this (and by 4 times the median "
+      "corner) is dropped, pixels (the edge of something hiding part of the board pulls the refinement off)");
     v("max_refine_shift_px", max_refine_shift_px,
       "a tracked or predicted corner that sub-pixel refinement moves further than this is dropped, pixels");
     v("search_interval_when_lost", search_interval_when_lost,
@@ -118,8 +123,17 @@ class BoardCornerTracker {
   std::optional<BoardCorners> predictedCorners(const cv::Mat& grey, const CameraModel& camera,
                                                const SE3& T_world_camera) const;
   std::optional<BoardCorners> fullSearch(const cv::Mat& grey, const CameraModel* camera, const SE3* T_world_camera);
-  // Sign of (white - black) of the squares between `corners`: +1 as SPEC section 2 numbers them.
-  double squareContrast(const cv::Mat& grey, const BoardCorners& corners) const;
+  // Whether the four squares around the corner at grid coordinates `grid` show their colours near
+  // it (H: grid to undistorted pixels).
+  bool squaresClear(const cv::Mat& grey, const CameraModel& camera, const Mat3& H, const Vec2& grid) const;
+  // Mean grey levels (black, white) of the squares between `corners`, as SPEC section 2 (and
+  // parity_) number them; empty without a square of each colour.
+  std::optional<std::pair<double, double>> squareMeans(const cv::Mat& grey, const BoardCorners& corners) const;
+  double squareContrast(const cv::Mat& grey, const BoardCorners& corners) const;  // white - black
+  // Whether the squares stop beyond those of `corners` on the board's edges (H: grid to
+  // undistorted pixels): false for a board slipped by two squares.
+  bool endsAtItsEdges(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
+                      const BoardCorners& corners) const;
   int minCorners() const;
   double refineMarginPx(const BoardCorners& corners) const;
 
