@@ -27,9 +27,14 @@ void BoardOdometryFusion::reset() {
   map_prev_.reset();
 }
 
-SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose) {
+SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose,
+                                const PoseWithCovariance* start) {
   const std::optional<PoseWithCovariance> map_prev = map_prev_;
   map_prev_ = map_pose;
+  if (!fused_ && start) {
+    fused_ = *start;
+    return start->T_camera_world;
+  }
   if (!fused_ || !map_prev || !map_pose) {
     fused_ = board;
     return board.T_camera_world;

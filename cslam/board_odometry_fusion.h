@@ -52,10 +52,16 @@ class BoardOdometryFusion {
 
   // One frame with the board. motion: the features' pose in this frame and the previous one
   // against the same map (their difference is the relative motion), when both exist.
-  // Returns the fused T_camera_world.
-  SE3 update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose);
+  // Returns the fused T_camera_world. When the filter (re)starts it starts from `start` if given
+  // (a better pose of this frame than the board's alone), else from the board pose.
+  SE3 update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose,
+             const PoseWithCovariance* start = nullptr);
+  bool restarting() const { return !fused_; }
   // A frame without the board (or not posed): the next board frame restarts the filter.
   void reset();
+  // The map changed under the last frame's map pose (a refinement): that frame's pose against the
+  // new map, so the next motion holds no map correction.
+  void replacePreviousMapPose(const std::optional<PoseWithCovariance>& map_pose) { map_prev_ = map_pose; }
 
  private:
   BoardOdometryFusionOptions options_;

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/options.h"
+#include "geometry/bundle_adjustment.h"
 #include "geometry/essential_eight_point.h"
 #include "geometry/pose_refinement.h"
 #include "geometry/triangulation.h"
@@ -25,7 +26,10 @@ void CslamOptions::check() const {
 
 namespace {
 
-constexpr int kMaxFramesPredicted = 5;  // the motion model predicts at most this many frames past the last pose
+constexpr int kMaxFramesPredicted = 5;
+// A point the refined map placed with too little parallax counts with this many times a feature's
+// standard deviation in a frame's pose.
+constexpr double kBarelyTriangulatedSigmaFactor = 3.0;  // the motion model predicts at most this many frames past the last pose
 
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -197,18 +201,43 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), board.p_world, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
   // The features' pose against the map (its error cancels in the frame-to-frame motion).
+  const std::optional<PoseWithCovariance> map_pose = mapPose(board.T_world_camera, xy, &result->measured);
+  // The filter (re)starts, e.g. when the board returns after a gap: from the board and the
+  // refined map together, whose points (found again, many of them placed while the board was seen)
+  // hold the board's tilt that a single view of it leaves loose.
+  std::optional<PoseWithCovariance> start;
+  if (fusion_.restarting() && window_) start = boardAndMapPose(board, xy);
+  return fusion_.update(board_pose, map_pose, start ? &*start : nullptr).inverse();
+}
+
+std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
+                                                                const std::vector<Vec2>& xy) const {
   const MapCorrespondences seen = mapPointsSeen(xy);
-  const std::vector<Vec3>& p_world = seen.p_world;
-  const std::vector<Vec2>& xy_map = seen.xy_normalised;
-  std::optional<PoseWithCovariance> map_pose;
-  if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
-    const auto refined =
-        refinePose(board.T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
-    map_pose = poseWithCovariance(refined.T_camera_world, p_world, xy_map, focal_px_, refined.rms_px,
-                                  options_.fusion.min_pixel_sigma);
-    result->measured += static_cast<int>(p_world.size());
-  }
-  return fusion_.update(board_pose, map_pose).inverse();
+  if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
+  const double sigma_board = options_.refinement.board_sigma_px, sigma_map = options_.refinement.feature_sigma_px;
+  BundleAdjustment ba;
+  const int camera = ba.addCamera(board.T_world_camera.inverse(), false);
+  for (size_t k = 0; k < board.p_world.size(); ++k)
+    ba.addObservation(camera, ba.addPoint(board.p_world[k], true), board.xy[k], sigma_board);
+  for (size_t k = 0; k < seen.p_world.size(); ++k)
+    ba.addObservation(camera, ba.addPoint(seen.p_world[k], true), seen.xy_normalised[k], sigma_map);
+  ba.solve(options_.refinement.bundle_adjustment, focal_px_);
+  const SE3 T_camera_world = ba.camera(camera);
+  const Mat6 information =
+      reprojectionHessian(T_camera_world, board.p_world, board.xy, focal_px_) / (sigma_board * sigma_board) +
+      reprojectionHessian(T_camera_world, seen.p_world, seen.xy_normalised, focal_px_) / (sigma_map * sigma_map);
+  return PoseWithCovariance{T_camera_world, information.completeOrthogonalDecomposition().pseudoInverse()};
+}
+
+std::optional<PoseWithCovariance> CslamTracker::mapPose(const SE3& T_world_start, const std::vector<Vec2>& xy,
+                                                       int* measured) const {
+  const MapCorrespondences seen = mapPointsSeen(xy);
+  if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
+  const auto refined =
+      refinePose(T_world_start.inverse(), seen.p_world, seen.xy_normalised, focal_px_, options_.map_refinement);
+  if (measured) *measured += static_cast<int>(seen.p_world.size());
+  return poseWithCovariance(refined.T_camera_world, seen.p_world, seen.xy_normalised, focal_px_, refined.rms_px,
+                            options_.fusion.min_pixel_sigma);
 }
 
 void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy) {
@@ -232,23 +261,16 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<V
 }
 
 std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
-  // Map points seen now: their positions fix the scale and refine the pose.
-  MapCorrespondences seen = mapPointsSeen(xy);
-  bool map_usable = static_cast<int>(seen.p_world.size()) >= options_.min_scale_points;
+  // Map points seen now: their positions fix the scale and refine the pose. In a fast turn the
+  // features that enter the image have too little parallax to be map points for a while; the
+  // refined map has placed them all the same (their directions hold the rotation), and they
+  // take part with less weight.
+  const MapCorrespondences seen = mapPointsSeen(xy);
+  const MapCorrespondences barely = window_ ? mapPointsSeen(xy, true) : MapCorrespondences{};
+  const int n_map = static_cast<int>(seen.p_world.size());
+  const bool map_usable = n_map + static_cast<int>(barely.p_world.size()) >= options_.min_scale_points;
   std::string essential_failure;
   std::optional<SE3> T_world_essential = essentialPose(xy, &essential_failure, result);
-  // In a fast turn the features that enter the image have too little parallax to be map points
-  // for a while; the refinement has placed them all the same (their directions hold the rotation).
-  bool barely_triangulated = false;
-  if (!map_usable && window_) {
-    MapCorrespondences all = mapPointsSeen(xy, true);
-    if (static_cast<int>(all.p_world.size()) >= options_.min_scale_points) {
-      seen = std::move(all);
-      map_usable = barely_triangulated = true;
-    }
-  }
-  const std::vector<Vec3>& p_world = seen.p_world;
-  const std::vector<Vec2>& xy_map = seen.xy_normalised;
   if (!map_usable) {
     if (!T_world_essential) result->reason = essential_failure;
     return T_world_essential;
@@ -262,11 +284,32 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
     SE3 T_camera_world;
     double median_px;
   };
+  // The fit is judged on the map points proper when there are enough of them.
+  const bool judge_on_map = n_map >= options_.min_scale_points;
   auto refineOnMap = [&](const SE3& T_world_camera) {
-    const auto refined =
-        refinePose(T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
-    return Candidate{refined.T_camera_world,
-                     median(reprojectionErrorsPx(refined.T_camera_world, p_world, xy_map, focal_px_))};
+    SE3 T_camera_world;
+    if (window_) {
+      BundleAdjustment ba;
+      const int camera = ba.addCamera(T_world_camera.inverse(), false);
+      for (size_t k = 0; k < seen.p_world.size(); ++k)
+        ba.addObservation(camera, ba.addPoint(seen.p_world[k], true), seen.xy_normalised[k],
+                          options_.refinement.feature_sigma_px);
+      for (size_t k = 0; k < barely.p_world.size(); ++k)
+        ba.addObservation(camera, ba.addPoint(barely.p_world[k], true), barely.xy_normalised[k],
+                          kBarelyTriangulatedSigmaFactor * options_.refinement.feature_sigma_px);
+      ba.solve(options_.refinement.bundle_adjustment, focal_px_);
+      T_camera_world = ba.camera(camera);
+    } else {
+      T_camera_world =
+          refinePose(T_world_camera.inverse(), seen.p_world, seen.xy_normalised, focal_px_, options_.map_refinement)
+              .T_camera_world;
+    }
+    std::vector<double> errors = reprojectionErrorsPx(T_camera_world, seen.p_world, seen.xy_normalised, focal_px_);
+    if (!judge_on_map) {
+      const auto more = reprojectionErrorsPx(T_camera_world, barely.p_world, barely.xy_normalised, focal_px_);
+      errors.insert(errors.end(), more.begin(), more.end());
+    }
+    return Candidate{T_camera_world, median(errors)};
   };
   std::optional<Candidate> from_essential;
   if (T_world_essential) from_essential = refineOnMap(*T_world_essential);
@@ -278,11 +321,11 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
     return std::nullopt;
   }
   if (!essential_wins) {
-    result->measured = static_cast<int>(p_world.size());
+    result->measured = n_map + static_cast<int>(barely.p_world.size());
     result->reason = (T_world_essential ? std::string("the map rejects the two-view motion")
                                         : essential_failure) +
-                     (barely_triangulated ? "; pose from the map's points, some with little parallax"
-                                          : "; pose from the map's points");
+                     (judge_on_map ? "; pose from the map's points"
+                                   : "; pose from the map's points, most with little parallax");
   }
   return best.T_camera_world.inverse();
 }
@@ -443,32 +486,50 @@ FrameResult CslamTracker::track(const Frame& frame) {
     }
   }
   if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
-  if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
+  const bool fusion_active = board && mode_ == Mode::Combined && options_.fusion.enabled;
+  if (fusion_active) {
     T_world_camera = fuseBoardAndMap(*board, xy, &result);
   } else {
     fusion_.reset();
   }
 
   if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
+  // A keyframe of the refined map: its map points no longer tracked are looked for first.
+  bool keyframe = false;
+  if (T_world_camera && window_) {
+    std::vector<int> ids;
+    for (const Feature& f : features_.features()) ids.push_back(f.id);
+    std::sort(ids.begin(), ids.end());
+    keyframe = window_->wantsKeyframe(frame.index, *T_world_camera, ids, board.has_value());
+    int tracked_map_points = 0;
+    for (const Feature& f : features_.features()) tracked_map_points += window_->position(f.id).has_value();
+    if (keyframe && options_.map_search.enabled && tracked_map_points < options_.map_search.below_map_points) {
+      const std::vector<Feature> found =
+          searchMapPoints(frame.grey, *camera_, *T_world_camera, window_->untrackedPoints(ids), features_.features(),
+                          options_.features.min_distance_px, options_.map_search);
+      features_.add(found);
+    }
+  }
   features_.replenish(frame.grey);
   if (T_world_camera) {
     xy = featuresNormalised();
     PosedFrame posed{frame.index, *T_world_camera, {}};
-    std::vector<int> ids;
-    ids.reserve(xy.size());
     for (size_t i = 0; i < xy.size(); ++i) {
       const int id = features_.features()[i].id;
       if (map_) map_->addObservation(id, *T_world_camera, xy[i]);
       posed.xy_normalised.emplace(id, xy[i]);
-      ids.push_back(id);
     }
-    if (window_ && window_->wantsKeyframe(frame.index, *T_world_camera, ids, board.has_value())) {
-      Keyframe keyframe{frame.index, *T_world_camera, posed.xy_normalised, {}, {}};
+    if (keyframe) {
+      Keyframe keyframe{frame.index, frame.timestamp, *T_world_camera, posed.xy_normalised, {}, {}};
       if (board) keyframe.board_ids = board->ids, keyframe.board_xy = board->xy;
       const KeyframeWindow::Added added = window_->add(std::move(keyframe));
+      for (const Feature& f : features_.features())
+        if (window_->position(f.id)) window_->setPatch(f.id, mapPointPatch(frame.grey, f.uv));
       // Without the board the window's refinement is the best pose; with it, the board fused with
-      // the motion stands (the window refines the map around it).
+      // the motion stands (the window refines the map around it), and the motion to the next
+      // frame is measured against the refined map.
       if (!board) T_world_camera = posed.T_world_camera = added.T_world_camera;
+      if (board && fusion_active) fusion_.replacePreviousMapPose(mapPose(*T_world_camera, xy, nullptr));
       if (added.reanchored) result.reason = "board back: the gap's keyframes and map points re-anchored";
     }
     history_.push_back(std::move(posed));
@@ -497,7 +558,8 @@ CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<V
   MapCorrespondences m;
   const auto& features = features_.features();
   for (size_t i = 0; i < features.size(); ++i) {
-    const auto p = barely_triangulated && window_ ? window_->position(features[i].id, true) : mapPosition(features[i].id);
+    const auto p = barely_triangulated ? (mapPosition(features[i].id) ? std::nullopt : window_->position(features[i].id, true))
+                                       : mapPosition(features[i].id);
     if (p) {
       m.p_world.push_back(*p);
       m.xy_normalised.push_back(xy[i]);

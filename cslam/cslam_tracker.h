@@ -50,6 +50,7 @@ struct CslamOptions {
   double max_map_error_px = 2.0;  // a two-view pose whose median map reprojection error exceeds this is lost
   FeatureMapOptions map;
   KeyframeWindowOptions refinement;
+  MapPointSearchOptions map_search;
   BoardOdometryFusionOptions fusion;
   int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
   SelfCalibrationOptions calibration;
@@ -73,6 +74,8 @@ struct CslamOptions {
     v("refinement", refinement,
       "combined mode: the map from keyframes refined over a sliding window by bundle adjustment, re-anchored "
       "when the board returns");
+    v("map_search", map_search,
+      "combined mode: map points no longer tracked looked for where the pose projects them (at keyframes)");
     v("fusion", fusion, "combined mode: each board pose fused with the features' frame-to-frame motion");
     v("two_view_init_map_points", two_view_init_map_points,
       "two_view mode: the board sets the world frame and scale until the map holds this many points");
@@ -128,6 +131,13 @@ class CslamTracker : public Tracker {
   std::vector<LatePose> posesOfGatheringFrames();
   // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
   SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result);
+  // The pose from the board's corners and the refined map's points together (weighted by their
+  // standard deviations), with its covariance; empty with too few map points.
+  std::optional<PoseWithCovariance> boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy) const;
+  // The features' pose against the map, refined from T_world_start, with its covariance; empty
+  // with too few map points. Adds the points used to *measured when given.
+  std::optional<PoseWithCovariance> mapPose(const SE3& T_world_start, const std::vector<Vec2>& xy,
+                                            int* measured) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
   // The thesis's two-view pose (essential matrix from the reference frame, scale from the map),
   // or empty with *failure saying why.
@@ -148,7 +158,8 @@ class CslamTracker : public Tracker {
     std::vector<Vec3> p_world;
     std::vector<Vec2> xy_normalised;
   };
-  // barely_triangulated: also the refined map's features placed with little parallax.
+  // barely_triangulated: instead, the refined map's features placed with too little parallax to
+  // be map points.
   MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy, bool barely_triangulated = false) const;
   FrameOverlay overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const;
 

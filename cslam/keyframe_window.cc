@@ -23,6 +23,7 @@ void KeyframeWindowOptions::check() const {
   if (!(feature_sigma_px > 0)) throw OptionError("feature_sigma_px", "must be positive");
   if (!(board_sigma_px > 0)) throw OptionError("board_sigma_px", "must be positive");
   if (!(max_error_px > 0)) throw OptionError("max_error_px", "must be positive");
+  if (board_point_sigma_m < 0) throw OptionError("board_point_sigma_m", "must be >= 0");
 }
 
 namespace {
@@ -179,8 +180,22 @@ void KeyframeWindow::refine() {
     int seen = 0;
     for (int s : track.keyframes) seen += camera_of.count(s);
     if (seen < 2) continue;
-    const int p = ba.addPoint(track.p_world, false);
+    int p;
+    if (track.valid) {
+      p = ba.addPoint(track.p_world, false);
+    } else {
+      // Too little parallax to place it: refined in inverse depth along its first keyframe's ray.
+      const Keyframe& anchor = keyframe(track.keyframes.front());
+      const Vec3 origin = anchor.T_world_camera.t();
+      const Vec3 direction = (anchor.T_world_camera.R() * anchor.features.at(id).homogeneous()).normalized();
+      const double depth = (track.p_world - origin).dot(direction);
+      p = ba.addPointOnRay(origin, direction, 1.0 / std::max(depth, kMinWeakDepth));
+    }
     point_of.emplace_back(id, p);
+    // Without the board in the window, a point it once anchored keeps what it said (the board
+    // keyframes have left; their information would otherwise leave with them).
+    if (!board && track.board_prior && options_.board_point_sigma_m > 0)
+      ba.addPointPrior(p, *track.board_prior, options_.board_point_sigma_m);
     for (int s : track.keyframes) {
       const auto c = camera_of.find(s);
       if (c == camera_of.end()) continue;
@@ -202,8 +217,14 @@ void KeyframeWindow::refine() {
   if (point_of.empty() && !board) return;
   ba.solve(options_.bundle_adjustment, focal_px_);
 
+
   for (int s = first_free; s <= newest; ++s) keyframe(s).T_world_camera = ba.camera(camera_of.at(s)).inverse();
-  for (const auto& [id, p] : point_of) tracks_.at(id).p_world = ba.point(p);
+
+  for (const auto& [id, p] : point_of) {
+    Track& track = tracks_.at(id);
+    track.p_world = ba.point(p);
+    if (board && track.valid) track.board_prior = track.p_world;
+  }
   // The typical depth of the map points in the newest keyframe, for the features not yet placed.
   std::vector<double> depths;
   const SE3 T_newest_world = keyframe(newest).T_world_camera.inverse();
@@ -232,13 +253,16 @@ bool KeyframeWindow::reanchorGap() {
   int last_board = newest - 1;
   while (last_board >= first_serial_ && !keyframe(last_board).hasBoard()) --last_board;
   if (last_board < first_serial_ || last_board == newest - 1) return false;  // no gap, or its start is gone
-  // Where the map alone (as it drifted over the gap) puts the returning keyframe.
+  // Where the map alone (as it drifted over the gap) puts the returning keyframe: the points the
+  // gap's keyframes saw (not those found again from before the gap).
   const Keyframe& back = keyframes_.back();
   std::vector<Vec3> p_world;
   std::vector<Vec2> xy;
   for (const auto& [id, obs] : back.features) {
     const Track& track = tracks_.at(id);
-    if (track.valid) p_world.push_back(track.p_world), xy.push_back(obs);
+    const bool seen_in_gap = std::any_of(track.keyframes.begin(), track.keyframes.end(),
+                                         [&](int s) { return s > last_board && s < newest; });
+    if (track.valid && seen_in_gap) p_world.push_back(track.p_world), xy.push_back(obs);
   }
   if (static_cast<int>(p_world.size()) < kMinPointsToReanchor) return false;
   const SE3 T_world_odometry =
@@ -283,6 +307,22 @@ std::optional<Vec3> KeyframeWindow::position(int id, bool barely_triangulated) c
   const auto it = tracks_.find(id);
   if (it == tracks_.end() || !(barely_triangulated ? it->second.initialised : it->second.valid)) return std::nullopt;
   return it->second.p_world;
+}
+
+void KeyframeWindow::setPatch(int id, cv::Mat patch) {
+  const auto it = tracks_.find(id);
+  if (it == tracks_.end()) return;
+  it->second.patch = std::move(patch);
+  it->second.patch_from = keyframes_.back().T_world_camera.t();
+}
+
+std::vector<MapPointCandidate> KeyframeWindow::untrackedPoints(const std::vector<int>& tracked_ids) const {
+  std::vector<MapPointCandidate> out;
+  for (const auto& [id, track] : tracks_) {
+    if (!track.valid || track.patch.empty() || std::binary_search(tracked_ids.begin(), tracked_ids.end(), id)) continue;
+    out.push_back({id, track.p_world, &track.patch, track.patch_from, static_cast<int>(track.keyframes.size())});
+  }
+  return out;
 }
 
 std::vector<MapPoint> KeyframeWindow::points() const {

@@ -15,6 +15,7 @@
 
 #include "core/geometry.h"
 #include "core/tracker.h"
+#include "cslam/map_point_search.h"
 #include "geometry/bundle_adjustment.h"
 
 namespace slamcmp {
@@ -31,6 +32,7 @@ struct KeyframeWindowOptions {
   double feature_sigma_px = 0.3;       // a tracked feature's position noise, pixels
   double board_sigma_px = 0.1;         // a board corner's, pixels
   double max_error_px = 2.5;           // observations farther from their point after refinement are dropped
+  double board_point_sigma_m = 0.002;  // the board's last word on a map point, once it has left the window
   bool reanchor = true;                // correct the gap's keyframes and points when the board returns
   BundleAdjustmentOptions bundle_adjustment;
   template <class V>
@@ -50,6 +52,9 @@ struct KeyframeWindowOptions {
     v("feature_sigma_px", feature_sigma_px, "standard deviation of a tracked feature's position, pixels");
     v("board_sigma_px", board_sigma_px, "standard deviation of a board corner's position, pixels");
     v("max_error_px", max_error_px, "observations this far from their refined point are dropped, pixels");
+    v("board_point_sigma_m", board_point_sigma_m,
+      "a map point refined with the board in the window keeps that position as a prior of this standard deviation "
+      "once the board has left the window (0: none), metres");
     v("reanchor", reanchor,
       "when the board returns after a gap, correct the gap's keyframes (pose graph) and the points they saw");
     v("bundle_adjustment", bundle_adjustment, "the bundle adjustment of the window");
@@ -59,6 +64,7 @@ struct KeyframeWindowOptions {
 
 struct Keyframe {
   int frame_index = 0;
+  double timestamp = 0;  // seconds
   SE3 T_world_camera;
   std::unordered_map<int, Vec2> features;  // feature id -> undistorted normalised coordinates
   std::vector<int> board_ids;              // board corners seen (SPEC section 2 indices)
@@ -83,6 +89,11 @@ class KeyframeWindow {
 
   // A feature's map point; barely_triangulated: also one placed with too little parallax.
   std::optional<Vec3> position(int id, bool barely_triangulated = false) const;
+  // The appearance of feature `id` in the newest keyframe (see map_point_search.h), to find it
+  // again once it is no longer tracked.
+  void setPatch(int id, cv::Mat patch);
+  // The map points whose features are not among tracked_ids (sorted), with a patch.
+  std::vector<MapPointCandidate> untrackedPoints(const std::vector<int>& tracked_ids) const;
   std::vector<MapPoint> points() const;
   int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
 
@@ -92,6 +103,9 @@ class KeyframeWindow {
     Vec3 p_world = Vec3::Zero();
     bool initialised = false;    // placed (refined by the window), perhaps with little parallax
     bool valid = false;          // a map point: enough parallax, in front, consistent
+    std::optional<Vec3> board_prior;  // its position the last time the board was in the window
+    cv::Mat patch;                // its appearance in the last keyframe that saw it (map_point_search.h)
+    Vec3 patch_from = Vec3::Zero();  // that keyframe's camera centre
   };
   Keyframe& keyframe(int serial) { return keyframes_[serial - first_serial_]; }
   const Keyframe& keyframe(int serial) const { return keyframes_[serial - first_serial_]; }

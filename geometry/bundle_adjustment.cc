@@ -26,6 +26,8 @@ constexpr double kMinDepth = 1e-6;
 // An observation behind its camera costs as a residual of this many sigmas: a step that moves a
 // point behind a camera is rejected (Levenberg-Marquardt only accepts lower costs).
 constexpr double kBehindSigmas = 100;
+// A point on a ray is kept nearer than 1 / this (metres for a unit direction).
+constexpr double kMinInverseDepth = 1e-4;
 
 // Huber's rho of a squared whitened residual, and its IRLS weight.
 double huberCost(double e2, double k) {
@@ -49,10 +51,27 @@ int BundleAdjustment::addPoint(const Vec3& p_world, bool fixed) {
   return numPoints() - 1;
 }
 
+int BundleAdjustment::addPointOnRay(const Vec3& origin, const Vec3& direction, double inverse_depth) {
+  assert(inverse_depth > 0);
+  Point p{origin + direction / inverse_depth, false, {}};
+  p.on_ray = true;
+  p.ray_origin = origin;
+  p.ray_direction = direction;
+  p.inverse_depth = inverse_depth;
+  points_.push_back(p);
+  return numPoints() - 1;
+}
+
 void BundleAdjustment::addObservation(int camera, int point, const Vec2& xy_normalised, double sigma_px) {
   assert(camera >= 0 && camera < numCameras() && point >= 0 && point < numPoints() && sigma_px > 0);
   points_[point].observations.push_back(static_cast<int>(observations_.size()));
   observations_.push_back({camera, point, xy_normalised, 1.0 / (sigma_px * sigma_px)});
+}
+
+void BundleAdjustment::addPointPrior(int point, const Vec3& p_world, double sigma_m) {
+  assert(point >= 0 && point < numPoints() && sigma_m > 0);
+  points_[point].prior = p_world;
+  points_[point].prior_weight = 1.0 / (sigma_m * sigma_m);
 }
 
 double BundleAdjustment::errorPx(int k, double focal_px) const {
@@ -72,6 +91,8 @@ double BundleAdjustment::cost(const std::vector<SE3>& cameras, const std::vector
     }
     total += huberCost(o.weight * (p.head<2>() / p.z() - o.xy).squaredNorm(), huber);
   }
+  for (size_t j = 0; j < points_.size(); ++j)
+    if (points_[j].prior_weight > 0) total += points_[j].prior_weight * (points[j] - points_[j].prior).squaredNorm();
   return total;
 }
 
@@ -86,8 +107,9 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
 
   std::vector<SE3> T(cameras_.size());
   std::vector<Vec3> P(points_.size());
+  std::vector<double> rho(points_.size(), 0);  // inverse depths of the points on rays
   for (size_t i = 0; i < cameras_.size(); ++i) T[i] = cameras_[i].T_camera_world;
-  for (size_t j = 0; j < points_.size(); ++j) P[j] = points_[j].p_world;
+  for (size_t j = 0; j < points_.size(); ++j) P[j] = points_[j].p_world, rho[j] = points_[j].inverse_depth;
   double current = cost(T, P, k);
   summary.initial_cost = summary.final_cost = current;
 
@@ -135,6 +157,11 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
       }
       if (cam.block >= 0 && point_free) W[m] = w * Jc.transpose() * Jp;
     }
+    for (size_t j = 0; j < points_.size(); ++j) {
+      if (points_[j].fixed || points_[j].prior_weight <= 0) continue;
+      V[j].diagonal().array() += points_[j].prior_weight;
+      gp[j] += points_[j].prior_weight * (P[j] - points_[j].prior);
+    }
     summary.iterations = it + 1;
     bool accepted = false;
     for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
@@ -150,10 +177,18 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
       std::vector<Mat3> V_inv(points_.size());
       for (size_t j = 0; j < points_.size(); ++j) {
         if (points_[j].fixed) continue;
-        Mat3 Vj = V[j];
-        Vj.diagonal() += lambda * V[j].diagonal().cwiseMax(1e-9);
-        Vj.diagonal().array() += 1e-12;
-        V_inv[j] = Vj.inverse();
+        if (points_[j].on_ray) {
+          // One parameter: dp/d(inverse depth) = -direction / rho^2; V_inv eliminates it alone.
+          const Vec3 B = -points_[j].ray_direction / (rho[j] * rho[j]);
+          const double v = B.dot(V[j] * B);
+          const double damped = v + lambda * std::max(v, 1e-9) + 1e-12;
+          V_inv[j] = B * B.transpose() / damped;
+        } else {
+          Mat3 Vj = V[j];
+          Vj.diagonal() += lambda * V[j].diagonal().cwiseMax(1e-9);
+          Vj.diagonal().array() += 1e-12;
+          V_inv[j] = Vj.inverse();
+        }
         if (!V_inv[j].allFinite()) V_inv[j].setZero();
         const std::vector<int>& obs = points_[j].observations;
         for (size_t a = 0; a < obs.size(); ++a) {
@@ -181,6 +216,7 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
       }
       std::vector<SE3> T_new = T;
       std::vector<Vec3> P_new = P;
+      std::vector<double> rho_new = rho;
       for (size_t i = 0; i < cameras_.size(); ++i)
         if (cameras_[i].block >= 0) T_new[i] = applyPoseDelta(T[i], dc.segment<6>(6 * cameras_[i].block));
       for (size_t j = 0; j < points_.size(); ++j) {
@@ -190,13 +226,22 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
           const int cm = cameras_[observations_[m].camera].block;
           if (used[m] && cm >= 0) rhs -= W[m].transpose() * dc.segment<6>(6 * cm);
         }
-        P_new[j] = P[j] + V_inv[j] * rhs;
+        if (points_[j].on_ray) {
+          // The step along B = dp/d(rho), taken in inverse depth.
+          const Vec3 B = -points_[j].ray_direction / (rho[j] * rho[j]);
+          const Vec3 step = V_inv[j] * rhs;
+          rho_new[j] = std::max(rho[j] + B.dot(step) / B.squaredNorm(), kMinInverseDepth);
+          P_new[j] = points_[j].ray_origin + points_[j].ray_direction / rho_new[j];
+        } else {
+          P_new[j] = P[j] + V_inv[j] * rhs;
+        }
       }
       const double candidate = cost(T_new, P_new, k);
       if (std::isfinite(candidate) && candidate < current) {
         const double decrease = current - candidate;
         T.swap(T_new);
         P.swap(P_new);
+        rho.swap(rho_new);
         current = candidate;
         lambda = std::max(lambda * 0.1, 1e-10);
         accepted = true;
@@ -209,7 +254,7 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
   }
   for (Observation& o : observations_) o.weight /= f2;
   for (size_t i = 0; i < cameras_.size(); ++i) cameras_[i].T_camera_world = T[i];
-  for (size_t j = 0; j < points_.size(); ++j) points_[j].p_world = P[j];
+  for (size_t j = 0; j < points_.size(); ++j) points_[j].p_world = P[j], points_[j].inverse_depth = rho[j];
   summary.final_cost = current;
   return summary;
 }

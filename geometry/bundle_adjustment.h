@@ -39,9 +39,18 @@ class BundleAdjustment {
   // Poses as T_camera_world (geometry's convention). Returns the index to refer to it.
   int addCamera(const SE3& T_camera_world, bool fixed);
   int addPoint(const Vec3& p_world, bool fixed);
+  // A free point held to the ray origin + direction / inverse_depth (e.g. through its first
+  // observation) and refined in inverse depth: for a point seen with too little parallax to
+  // place, whose depth is nearly free while its direction holds the cameras' rotations (inverse
+  // depth stays well-behaved as the depth goes to infinity). inverse_depth > 0, 1 / metres for a
+  // unit direction.
+  int addPointOnRay(const Vec3& origin, const Vec3& direction, double inverse_depth);
   // Point `point` seen from camera `camera` at undistorted normalised coordinates, with a
   // standard deviation of sigma_px pixels.
   void addObservation(int camera, int point, const Vec2& xy_normalised, double sigma_px);
+  // A prior on a free point's position: p_world with sigma_m metres per axis (what earlier data,
+  // no longer in the problem, said about it).
+  void addPointPrior(int point, const Vec3& p_world, double sigma_m);
 
   // focal_px converts normalised residuals to pixels.
   BundleAdjustmentSummary solve(const BundleAdjustmentOptions& options, double focal_px);
@@ -63,6 +72,11 @@ class BundleAdjustment {
     Vec3 p_world;
     bool fixed;
     std::vector<int> observations;
+    Vec3 prior = Vec3::Zero();
+    double prior_weight = 0;  // 1 / sigma^2, 0: no prior
+    bool on_ray = false;      // p_world = ray_origin + ray_direction / inverse_depth
+    Vec3 ray_origin = Vec3::Zero(), ray_direction = Vec3::Zero();
+    double inverse_depth = 0;
   };
   struct Observation {
     int camera, point;

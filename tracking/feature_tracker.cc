@@ -81,6 +81,10 @@ void FeatureTracker::keepOnly(const std::vector<char>& keep) {
   features_ = std::move(kept);
 }
 
+void FeatureTracker::add(const std::vector<Feature>& found) {
+  features_.insert(features_.end(), found.begin(), found.end());
+}
+
 int FeatureTracker::replenish(const cv::Mat& grey) {
   const int held = static_cast<int>(features_.size());
   if (held >= options_.min_features) return 0;

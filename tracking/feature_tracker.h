@@ -47,6 +47,9 @@ class FeatureTracker {
              cv::Size lk_window, int lk_levels, const std::vector<cv::Point2f>* predicted_uv = nullptr);
   // Drops the features whose id is flagged (e.g. epipolar outliers): keep[i] for features()[i].
   void keepOnly(const std::vector<char>& keep);
+  // Adds features the caller found again (e.g. map points matched where the camera pose projects
+  // them), with their old ids.
+  void add(const std::vector<Feature>& found);
   // Detects new features away from the existing ones when fewer than min_features are held.
   // Returns the number added.
   int replenish(const cv::Mat& grey);
