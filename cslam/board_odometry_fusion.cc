@@ -22,23 +22,16 @@ PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vect
   return {T_camera_world, sigma2 * H.completeOrthogonalDecomposition().pseudoInverse()};
 }
 
-void BoardOdometryFusion::reset() {
-  fused_.reset();
-  map_prev_.reset();
-}
+void BoardOdometryFusion::reset() { fused_.reset(); }
 
-SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose,
+SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
                                 const PoseWithCovariance* start) {
-  const std::optional<PoseWithCovariance> map_prev = map_prev_;
-  map_prev_ = map_pose;
-  if (!fused_ && start) {
-    fused_ = *start;
-    return start->T_camera_world;
+  if (!fused_ || !map_motion) {
+    fused_ = start ? *start : board;
+    return fused_->T_camera_world;
   }
-  if (!fused_ || !map_prev || !map_pose) {
-    fused_ = board;
-    return board.T_camera_world;
-  }
+  const PoseWithCovariance* map_prev = &map_motion->previous;
+  const PoseWithCovariance* map_pose = &map_motion->current;
   // Prediction: the previous fused pose moved by the features' motion (both map poses hold the
   // map's error alike, so it cancels in their difference). The covariance is carried over without
   // the motion's adjoint: frame-to-frame motion is small.

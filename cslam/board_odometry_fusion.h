@@ -46,27 +46,29 @@ PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vect
                                       const std::vector<Vec2>& xy_normalised, double focal_px, double rms_px,
                                       double min_sigma_px);
 
+// The features' poses in the previous frame and in this one against the same map points: their
+// difference is the frame-to-frame motion (the map's error cancels in it).
+struct MapMotion {
+  PoseWithCovariance previous, current;
+};
+
 class BoardOdometryFusion {
  public:
   explicit BoardOdometryFusion(const BoardOdometryFusionOptions& options) : options_(options) {}
 
-  // One frame with the board. motion: the features' pose in this frame and the previous one
-  // against the same map (their difference is the relative motion), when both exist.
-  // Returns the fused T_camera_world. When the filter (re)starts it starts from `start` if given
-  // (a better pose of this frame than the board's alone), else from the board pose.
-  SE3 update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose,
+  // One frame with the board, and the features' motion from the previous frame when it was
+  // measured. Returns the fused T_camera_world. Without a motion to fuse with (or a filter to
+  // move by it) the filter (re)starts from `start` if given (a better pose of this frame than the
+  // board's alone), else from the board pose.
+  SE3 update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
              const PoseWithCovariance* start = nullptr);
   bool restarting() const { return !fused_; }
   // A frame without the board (or not posed): the next board frame restarts the filter.
   void reset();
-  // The map changed under the last frame's map pose (a refinement): that frame's pose against the
-  // new map, so the next motion holds no map correction.
-  void replacePreviousMapPose(const std::optional<PoseWithCovariance>& map_pose) { map_prev_ = map_pose; }
 
  private:
   BoardOdometryFusionOptions options_;
-  std::optional<PoseWithCovariance> fused_;     // the previous frame's
-  std::optional<PoseWithCovariance> map_prev_;  // the previous frame's map pose
+  std::optional<PoseWithCovariance> fused_;  // the previous frame's
 };
 
 }  // namespace slamcmp

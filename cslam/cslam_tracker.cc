@@ -92,10 +92,9 @@ std::vector<MapPoint> CslamTracker::mapPoints() const {
 }
 
 void CslamTracker::makeMap() {
+  map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
   if (mode_ == Mode::Combined && options_.refinement.enabled)
     window_ = std::make_unique<KeyframeWindow>(options_.refinement, focal_px_, corners_world_);
-  else
-    map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
 }
 
 std::optional<Vec3> CslamTracker::mapPosition(int feature_id) const {
@@ -197,17 +196,40 @@ std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
   return late;
 }
 
-SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result) {
+SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index,
+                                  FrameResult* result) {
   const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), board.p_world, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
-  // The features' pose against the map (its error cancels in the frame-to-frame motion).
-  const std::optional<PoseWithCovariance> map_pose = mapPose(board.T_world_camera, xy, &result->measured);
-  // The filter (re)starts, e.g. when the board returns after a gap: from the board and the
-  // refined map together, whose points (found again, many of them placed while the board was seen)
-  // hold the board's tilt that a single view of it leaves loose.
+  // The features' motion from the previous frame: their poses in both frames against the
+  // thesis's map (triangulated from every posed frame's rays: it drifts less from frame to frame
+  // than the keyframes' map, whose points move at each refinement), from the same points (the
+  // map's error cancels).
+  std::optional<MapMotion> motion;
+  if (!history_.empty() && history_.back().index == frame_index - 1) {
+    const PosedFrame& prev = history_.back();
+    std::vector<Vec3> p_world;
+    std::vector<Vec2> xy_now, xy_prev;
+    const auto& features = features_.features();
+    for (size_t i = 0; i < features.size(); ++i) {
+      const auto p = map_->position(features[i].id);
+      const auto before = prev.xy_normalised.find(features[i].id);
+      if (!p || before == prev.xy_normalised.end()) continue;
+      p_world.push_back(*p);
+      xy_now.push_back(xy[i]);
+      xy_prev.push_back(before->second);
+    }
+    if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
+      motion = MapMotion{mapPose(prev.T_world_camera, p_world, xy_prev), mapPose(board.T_world_camera, p_world, xy_now)};
+      result->measured += static_cast<int>(p_world.size());
+    }
+  }
+  // The filter (re)starts, e.g. when the board returns after a gap, or has no motion to go by:
+  // from the board and the refined map together, whose points (found again, many of them placed
+  // while the board was seen) hold the board's tilt that a single view of it (a strip of it at
+  // the image's edge above all) leaves loose.
   std::optional<PoseWithCovariance> start;
-  if (fusion_.restarting() && window_) start = boardAndMapPose(board, xy);
-  return fusion_.update(board_pose, map_pose, start ? &*start : nullptr).inverse();
+  if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
+  return fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
 }
 
 std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
@@ -229,14 +251,10 @@ std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView&
   return PoseWithCovariance{T_camera_world, information.completeOrthogonalDecomposition().pseudoInverse()};
 }
 
-std::optional<PoseWithCovariance> CslamTracker::mapPose(const SE3& T_world_start, const std::vector<Vec2>& xy,
-                                                       int* measured) const {
-  const MapCorrespondences seen = mapPointsSeen(xy);
-  if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
-  const auto refined =
-      refinePose(T_world_start.inverse(), seen.p_world, seen.xy_normalised, focal_px_, options_.map_refinement);
-  if (measured) *measured += static_cast<int>(seen.p_world.size());
-  return poseWithCovariance(refined.T_camera_world, seen.p_world, seen.xy_normalised, focal_px_, refined.rms_px,
+PoseWithCovariance CslamTracker::mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
+                                        const std::vector<Vec2>& xy_normalised) const {
+  const auto refined = refinePose(T_world_start.inverse(), p_world, xy_normalised, focal_px_, options_.map_refinement);
+  return poseWithCovariance(refined.T_camera_world, p_world, xy_normalised, focal_px_, refined.rms_px,
                             options_.fusion.min_pixel_sigma);
 }
 
@@ -486,9 +504,8 @@ FrameResult CslamTracker::track(const Frame& frame) {
     }
   }
   if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
-  const bool fusion_active = board && mode_ == Mode::Combined && options_.fusion.enabled;
-  if (fusion_active) {
-    T_world_camera = fuseBoardAndMap(*board, xy, &result);
+  if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
+    T_world_camera = fuseBoardAndMap(*board, xy, frame.index, &result);
   } else {
     fusion_.reset();
   }
@@ -516,7 +533,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
     PosedFrame posed{frame.index, *T_world_camera, {}};
     for (size_t i = 0; i < xy.size(); ++i) {
       const int id = features_.features()[i].id;
-      if (map_) map_->addObservation(id, *T_world_camera, xy[i]);
+      map_->addObservation(id, *T_world_camera, xy[i]);
       posed.xy_normalised.emplace(id, xy[i]);
     }
     if (keyframe) {
@@ -529,7 +546,6 @@ FrameResult CslamTracker::track(const Frame& frame) {
       // the motion stands (the window refines the map around it), and the motion to the next
       // frame is measured against the refined map.
       if (!board) T_world_camera = posed.T_world_camera = added.T_world_camera;
-      if (board && fusion_active) fusion_.replacePreviousMapPose(mapPose(*T_world_camera, xy, nullptr));
       if (added.reanchored) result.reason = "board back: the gap's keyframes and map points re-anchored";
     }
     history_.push_back(std::move(posed));
@@ -546,8 +562,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
     // Two-view chaining broke: the board, when it comes back, starts the chain again.
     if (mode_ == Mode::TwoView) two_view_board_phase_ = true;
   }
-  if (map_)
-    for (const int id : features_.ended()) map_->forgetIfUnusable(id);
+  for (const int id : features_.ended()) map_->forgetIfUnusable(id);
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;

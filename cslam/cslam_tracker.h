@@ -130,14 +130,14 @@ class CslamTracker : public Tracker {
   // The frames that gathered calibration views, posed now that the camera is known.
   std::vector<LatePose> posesOfGatheringFrames();
   // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
-  SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result);
+  SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index, FrameResult* result);
   // The pose from the board's corners and the refined map's points together (weighted by their
   // standard deviations), with its covariance; empty with too few map points.
   std::optional<PoseWithCovariance> boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy) const;
-  // The features' pose against the map, refined from T_world_start, with its covariance; empty
-  // with too few map points. Adds the points used to *measured when given.
-  std::optional<PoseWithCovariance> mapPose(const SE3& T_world_start, const std::vector<Vec2>& xy,
-                                            int* measured) const;
+  // The pose fitted to map points seen at xy_normalised, refined from T_world_start, with its
+  // covariance.
+  PoseWithCovariance mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
+                             const std::vector<Vec2>& xy_normalised) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
   // The thesis's two-view pose (essential matrix from the reference frame, scale from the map),
   // or empty with *failure saying why.
@@ -176,7 +176,7 @@ class CslamTracker : public Tracker {
   BoardCornerTracker board_;
   FeatureTracker features_;
   BoardOdometryFusion fusion_;
-  std::unique_ptr<FeatureMap> map_;        // calibration and two_view modes (and combined without refinement)
+  std::unique_ptr<FeatureMap> map_;        // the thesis's map (in combined mode, for the fusion's motion)
   std::unique_ptr<KeyframeWindow> window_;  // combined mode's refined map
   std::unique_ptr<SelfCalibrator> calibrator_;
   int calibration_frames_ = 0;
