@@ -63,6 +63,8 @@ class BoardOdometryFusion {
   SE3 update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
              const PoseWithCovariance* start = nullptr);
   bool restarting() const { return !fused_; }
+  // Starts the filter again from this frame's pose (e.g. the map under it was corrected).
+  void restartFrom(const PoseWithCovariance& pose) { fused_ = pose; }
   // A frame without the board (or not posed): the next board frame restarts the filter.
   void reset();
 

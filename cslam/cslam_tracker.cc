@@ -517,7 +517,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
     std::vector<int> ids;
     for (const Feature& f : features_.features()) ids.push_back(f.id);
     std::sort(ids.begin(), ids.end());
-    keyframe = window_->wantsKeyframe(frame.index, *T_world_camera, ids, board.has_value());
+    keyframe = window_->wantsKeyframe(frame.index, *T_world_camera, ids, board ? static_cast<int>(board->ids.size()) : 0);
     int tracked_map_points = 0;
     for (const Feature& f : features_.features()) tracked_map_points += window_->position(f.id).has_value();
     if (keyframe && options_.map_search.enabled && tracked_map_points < options_.map_search.below_map_points) {
@@ -537,8 +537,12 @@ FrameResult CslamTracker::track(const Frame& frame) {
       posed.xy_normalised.emplace(id, xy[i]);
     }
     if (keyframe) {
-      Keyframe keyframe{frame.index, frame.timestamp, *T_world_camera, posed.xy_normalised, {}, {}};
-      if (board) keyframe.board_ids = board->ids, keyframe.board_xy = board->xy;
+      Keyframe keyframe;
+      keyframe.frame_index = frame.index;
+      keyframe.timestamp = frame.timestamp;
+      keyframe.T_world_camera = *T_world_camera;
+      keyframe.features = posed.xy_normalised;
+      if (board) keyframe.board_ids = board->ids, keyframe.board_xy = board->xy, keyframe.T_world_board = board->T_world_camera;
       const KeyframeWindow::Added added = window_->add(std::move(keyframe));
       for (const Feature& f : features_.features())
         if (window_->position(f.id)) window_->setPatch(f.id, mapPointPatch(frame.grey, f.uv));
@@ -546,7 +550,15 @@ FrameResult CslamTracker::track(const Frame& frame) {
       // the motion stands (the window refines the map around it), and the motion to the next
       // frame is measured against the refined map.
       if (!board) T_world_camera = posed.T_world_camera = added.T_world_camera;
-      if (added.reanchored) result.reason = "board back: the gap's keyframes and map points re-anchored";
+      if (added.reanchored) {
+        // The board is back and the map re-anchored to it: this frame's pose from both, and the
+        // fusion starts again from there.
+        result.reason = "board back: the gap's keyframes and map points re-anchored";
+        if (const auto joint = boardAndMapPose(*board, xy)) {
+          if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
+          T_world_camera = posed.T_world_camera = joint->T_camera_world.inverse();
+        }
+      }
     }
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();

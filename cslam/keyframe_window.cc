@@ -23,6 +23,8 @@ void KeyframeWindowOptions::check() const {
   if (!(feature_sigma_px > 0)) throw OptionError("feature_sigma_px", "must be positive");
   if (!(board_sigma_px > 0)) throw OptionError("board_sigma_px", "must be positive");
   if (!(max_error_px > 0)) throw OptionError("max_error_px", "must be positive");
+  if (!(anchor_board_fraction > 0 && anchor_board_fraction <= 1))
+    throw OptionError("anchor_board_fraction", "must be in (0, 1]");
   if (board_point_sigma_m < 0) throw OptionError("board_point_sigma_m", "must be >= 0");
 }
 
@@ -39,11 +41,18 @@ constexpr double kMaxWeakDepth = 50;
 KeyframeWindow::KeyframeWindow(const KeyframeWindowOptions& options, double focal_px, std::vector<Vec3> corners_world)
     : options_(options), focal_px_(focal_px), corners_world_(std::move(corners_world)) {}
 
+bool KeyframeWindow::anchors(const Keyframe& keyframe) const {
+  return static_cast<double>(keyframe.board_ids.size()) >=
+         std::max(1.0, options_.anchor_board_fraction * static_cast<double>(corners_world_.size()));
+}
+
 bool KeyframeWindow::wantsKeyframe(int frame_index, const SE3& T_world_camera, const std::vector<int>& tracked_ids,
-                                   bool board) const {
+                                   int board_corners) const {
   if (keyframes_.empty()) return true;
   const Keyframe& last = keyframes_.back();
-  if (board && !last.hasBoard()) return true;  // the board is back: re-anchor at once
+  Keyframe probe;
+  probe.board_ids.resize(board_corners);
+  if (anchors(probe) && !anchors(last)) return true;  // the board is back: re-anchor at once
   if (frame_index - last.frame_index >= options_.max_frames_between) return true;
   if (rotationAngle(last.T_world_camera.R().transpose() * T_world_camera.R()) * 180 / M_PI >= options_.min_rotation_deg)
     return true;
@@ -116,7 +125,7 @@ KeyframeWindow::Added KeyframeWindow::add(Keyframe kf) {
     if (!track.valid && track.keyframes.size() >= 2) triangulate(id, track);
   }
   Added added;
-  added.reanchored = options_.reanchor && keyframes_.back().hasBoard() && reanchorGap();
+  added.reanchored = options_.reanchor && anchors(keyframes_.back()) && reanchorGap();
   refine();
   for (const auto& [id, xy] : keyframes_.back().features) added.points += tracks_.at(id).valid;
   added.T_world_camera = keyframes_.back().T_world_camera;
@@ -251,7 +260,7 @@ void KeyframeWindow::refine() {
 bool KeyframeWindow::reanchorGap() {
   const int newest = newestSerial();
   int last_board = newest - 1;
-  while (last_board >= first_serial_ && !keyframe(last_board).hasBoard()) --last_board;
+  while (last_board >= first_serial_ && !anchors(keyframe(last_board))) --last_board;
   if (last_board < first_serial_ || last_board == newest - 1) return false;  // no gap, or its start is gone
   // Where the map alone (as it drifted over the gap) puts the returning keyframe: the points the
   // gap's keyframes saw (not those found again from before the gap).
@@ -275,6 +284,7 @@ bool KeyframeWindow::reanchorGap() {
   std::vector<PoseGraphEdge> edges;
   for (int s = last_board; s <= newest; ++s) {
     nodes.push_back(keyframe(s).T_world_camera);
+    if (s == newest) nodes.back() = keyframe(s).T_world_board;  // the board's word on where it is
     fixed.push_back(s == last_board || s == newest);
     if (s == last_board) continue;
     PoseGraphEdge e;
@@ -284,6 +294,7 @@ bool KeyframeWindow::reanchorGap() {
     edges.push_back(e);
   }
   const std::vector<SE3> corrected = optimisePoseGraph(nodes, fixed, edges);
+  keyframe(newest).T_world_camera = keyframe(newest).T_world_board;
   // Each gap keyframe's correction (world frame); a point moves with the newest gap keyframe
   // that saw it.
   std::unordered_map<int, SE3> correction;

@@ -34,6 +34,7 @@ struct KeyframeWindowOptions {
   double max_error_px = 2.5;           // observations farther from their point after refinement are dropped
   double board_point_sigma_m = 0.002;  // the board's last word on a map point, once it has left the window
   bool reanchor = true;                // correct the gap's keyframes and points when the board returns
+  double anchor_board_fraction = 0.5;  // a keyframe anchors the map when it sees this much of the board
   BundleAdjustmentOptions bundle_adjustment;
   template <class V>
   void visit(V& v) {
@@ -57,6 +58,9 @@ struct KeyframeWindowOptions {
       "once the board has left the window (0: none), metres");
     v("reanchor", reanchor,
       "when the board returns after a gap, correct the gap's keyframes (pose graph) and the points they saw");
+    v("anchor_board_fraction", anchor_board_fraction,
+      "a keyframe anchors the map (ends a gap) when it sees at least this fraction of the board's corners: a strip "
+      "of the board leaves its pose loose");
     v("bundle_adjustment", bundle_adjustment, "the bundle adjustment of the window");
   }
   void check() const;
@@ -69,6 +73,7 @@ struct Keyframe {
   std::unordered_map<int, Vec2> features;  // feature id -> undistorted normalised coordinates
   std::vector<int> board_ids;              // board corners seen (SPEC section 2 indices)
   std::vector<Vec2> board_xy;              // their undistorted normalised coordinates
+  SE3 T_world_board;                       // the pose from the board's corners alone, when seen
   bool hasBoard() const { return !board_ids.empty(); }
 };
 
@@ -76,10 +81,10 @@ class KeyframeWindow {
  public:
   KeyframeWindow(const KeyframeWindowOptions& options, double focal_px, std::vector<Vec3> corners_world);
 
-  // Whether a frame posed at T_world_camera, tracking the features `tracked_ids` (with the board
-  // or not), should become a keyframe.
+  // Whether a frame posed at T_world_camera, tracking the features `tracked_ids` and seeing
+  // board_corners of the board's corners, should become a keyframe.
   bool wantsKeyframe(int frame_index, const SE3& T_world_camera, const std::vector<int>& tracked_ids,
-                     bool board) const;
+                     int board_corners) const;
   struct Added {
     SE3 T_world_camera;      // the new keyframe's pose after refinement
     bool reanchored = false;  // the board returned: the gap's keyframes were corrected
@@ -115,6 +120,7 @@ class KeyframeWindow {
   // The board's return after keyframes without it: returns whether the gap was corrected.
   bool reanchorGap();
   void dropOldest();
+  bool anchors(const Keyframe& keyframe) const;  // it sees enough of the board to end a gap
 
   KeyframeWindowOptions options_;
   double focal_px_;
