@@ -511,22 +511,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
   }
 
   if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
-  // A keyframe of the refined map: its map points no longer tracked are looked for first.
-  bool keyframe = false;
-  if (T_world_camera && window_) {
-    std::vector<int> ids;
-    for (const Feature& f : features_.features()) ids.push_back(f.id);
-    std::sort(ids.begin(), ids.end());
-    keyframe = window_->wantsKeyframe(frame.index, *T_world_camera, ids, board ? static_cast<int>(board->ids.size()) : 0);
-    int tracked_map_points = 0;
-    for (const Feature& f : features_.features()) tracked_map_points += window_->position(f.id).has_value();
-    if (keyframe && options_.map_search.enabled && tracked_map_points < options_.map_search.below_map_points) {
-      const std::vector<Feature> found =
-          searchMapPoints(frame.grey, *camera_, *T_world_camera, window_->untrackedPoints(ids), features_.features(),
-                          options_.features.min_distance_px, options_.map_search);
-      features_.add(found);
-    }
-  }
+  const bool keyframe = T_world_camera && window_ && prepareKeyframe(frame, *T_world_camera, board ? &*board : nullptr);
   features_.replenish(frame.grey);
   if (T_world_camera) {
     xy = featuresNormalised();
@@ -536,30 +521,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
       map_->addObservation(id, *T_world_camera, xy[i]);
       posed.xy_normalised.emplace(id, xy[i]);
     }
-    if (keyframe) {
-      Keyframe keyframe;
-      keyframe.frame_index = frame.index;
-      keyframe.timestamp = frame.timestamp;
-      keyframe.T_world_camera = *T_world_camera;
-      keyframe.features = posed.xy_normalised;
-      if (board) keyframe.board_ids = board->ids, keyframe.board_xy = board->xy, keyframe.T_world_board = board->T_world_camera;
-      const KeyframeWindow::Added added = window_->add(std::move(keyframe));
-      for (const Feature& f : features_.features())
-        if (window_->position(f.id)) window_->setPatch(f.id, mapPointPatch(frame.grey, f.uv));
-      // Without the board the window's refinement is the best pose; with it, the board fused with
-      // the motion stands (the window refines the map around it), and the motion to the next
-      // frame is measured against the refined map.
-      if (!board) T_world_camera = posed.T_world_camera = added.T_world_camera;
-      if (added.reanchored) {
-        // The board is back and the map re-anchored to it: this frame's pose from both, and the
-        // fusion starts again from there.
-        result.reason = "board back: the gap's keyframes and map points re-anchored";
-        if (const auto joint = boardAndMapPose(*board, xy)) {
-          if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
-          T_world_camera = posed.T_world_camera = joint->T_camera_world.inverse();
-        }
-      }
-    }
+    if (keyframe) T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board ? &*board : nullptr, xy, &result);
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
     if (mode_ == Mode::TwoView && two_view_board_phase_ &&
@@ -578,6 +540,53 @@ FrameResult CslamTracker::track(const Frame& frame) {
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;
+}
+
+bool CslamTracker::prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board) {
+  std::vector<int> ids;
+  int tracked_map_points = 0;
+  for (const Feature& f : features_.features()) {
+    ids.push_back(f.id);
+    tracked_map_points += window_->position(f.id).has_value();
+  }
+  std::sort(ids.begin(), ids.end());
+  if (!window_->wantsKeyframe(frame.index, T_world_camera, ids, board ? static_cast<int>(board->ids.size()) : 0))
+    return false;
+  // Few map points tracked (the board back after a gap, the camera turned back): those no longer
+  // tracked are looked for where the pose projects them.
+  if (options_.map_search.enabled && tracked_map_points < options_.map_search.below_map_points)
+    features_.add(searchMapPoints(frame.grey, *camera_, T_world_camera, window_->untrackedPoints(ids),
+                                  features_.features(), options_.features.min_distance_px, options_.map_search));
+  return true;
+}
+
+SE3 CslamTracker::addKeyframe(const Frame& frame, const PosedFrame& posed, const BoardView* board,
+                              const std::vector<Vec2>& xy, FrameResult* result) {
+  Keyframe keyframe;
+  keyframe.frame_index = frame.index;
+  keyframe.timestamp = frame.timestamp;
+  keyframe.T_world_camera = posed.T_world_camera;
+  keyframe.features = posed.xy_normalised;
+  if (board) {
+    keyframe.board_ids = board->ids;
+    keyframe.board_xy = board->xy;
+    keyframe.T_world_board = board->T_world_camera;
+  }
+  const KeyframeWindow::Added added = window_->add(std::move(keyframe));
+  for (const Feature& f : features_.features())
+    if (window_->position(f.id)) window_->setPatch(f.id, mapPointPatch(frame.grey, f.uv));
+  if (added.reanchored) {
+    // The board is back and the map re-anchored to it: this frame's pose from both, and the
+    // fusion starts again from there.
+    result->reason = "board back: the gap's keyframes and map points re-anchored";
+    if (const auto joint = boardAndMapPose(*board, xy)) {
+      if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
+      return joint->T_camera_world.inverse();
+    }
+  }
+  // Without the board the window's refinement is the best pose; with it, the board fused with
+  // the motion stands (the window refines the map around it).
+  return board ? posed.T_world_camera : added.T_world_camera;
 }
 
 CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy,

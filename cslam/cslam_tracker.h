@@ -139,6 +139,14 @@ class CslamTracker : public Tracker {
   PoseWithCovariance mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
                              const std::vector<Vec2>& xy_normalised) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
+  // Combined mode's refined map: whether this posed frame becomes a keyframe (if so, map points no
+  // longer tracked are looked for first, while few are tracked).
+  bool prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board);
+  // Adds the keyframe (the features after replenishing: posed, xy) and refines the window; returns
+  // the frame's pose: the refined one without the board, the board's and the re-anchored map's
+  // when the board ends a gap, else posed's.
+  SE3 addKeyframe(const Frame& frame, const PosedFrame& posed, const BoardView* board, const std::vector<Vec2>& xy,
+                  FrameResult* result);
   // The thesis's two-view pose (essential matrix from the reference frame, scale from the map),
   // or empty with *failure saying why.
   std::optional<SE3> essentialPose(const std::vector<Vec2>& xy, std::string* failure, FrameResult* result);
