@@ -1,6 +1,8 @@
 #include "cslam/cslam_tracker.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 
 #include <opencv2/video/tracking.hpp>
 
@@ -27,6 +29,9 @@ void CslamOptions::check() const {
 namespace {
 
 constexpr int kMaxFramesPredicted = 5;
+// The fusion's motion is measured on the thesis's map when it holds this many of the tracked
+// features, else on the refined map.
+constexpr int kMinThesisMotionPoints = 30;
 // A point the refined map placed with too little parallax counts with this many times a feature's
 // standard deviation in a frame's pose.
 constexpr double kBarelyTriangulatedSigmaFactor = 3.0;  // the motion model predicts at most this many frames past the last pose
@@ -200,27 +205,36 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
                                   FrameResult* result) {
   const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), board.p_world, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
-  // The features' motion from the previous frame: their poses in both frames against the
-  // thesis's map (triangulated from every posed frame's rays: it drifts less from frame to frame
-  // than the keyframes' map, whose points move at each refinement), from the same points (the
-  // map's error cancels).
+  // The features' motion from the previous frame: their poses in both frames against the same
+  // points of the map (the map's error cancels): the thesis's map (triangulated from every posed
+  // frame's rays, its points are the more accurate in forward motion), or the refined map while
+  // the thesis's holds few of them (the board back after a gap: the refined map's points are
+  // placed at less parallax, and found again).
   std::optional<MapMotion> motion;
   if (!history_.empty() && history_.back().index == frame_index - 1) {
     const PosedFrame& prev = history_.back();
-    std::vector<Vec3> p_world;
-    std::vector<Vec2> xy_now, xy_prev;
     const auto& features = features_.features();
+    struct Common {
+      std::vector<Vec3> p_world;
+      std::vector<Vec2> xy_now, xy_prev;
+    } thesis, refined;
     for (size_t i = 0; i < features.size(); ++i) {
-      const auto p = map_->position(features[i].id);
       const auto before = prev.xy_normalised.find(features[i].id);
-      if (!p || before == prev.xy_normalised.end()) continue;
-      p_world.push_back(*p);
-      xy_now.push_back(xy[i]);
-      xy_prev.push_back(before->second);
+      if (before == prev.xy_normalised.end()) continue;
+      for (auto [map_point, common] : {std::make_pair(map_->position(features[i].id), &thesis),
+                                       std::make_pair(window_ ? window_->position(features[i].id) : std::nullopt,
+                                                      &refined)}) {
+        if (!map_point) continue;
+        common->p_world.push_back(*map_point);
+        common->xy_now.push_back(xy[i]);
+        common->xy_prev.push_back(before->second);
+      }
     }
-    if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
-      motion = MapMotion{mapPose(prev.T_world_camera, p_world, xy_prev), mapPose(board.T_world_camera, p_world, xy_now)};
-      result->measured += static_cast<int>(p_world.size());
+    const Common& used = static_cast<int>(thesis.p_world.size()) >= kMinThesisMotionPoints || !window_ ? thesis : refined;
+    if (static_cast<int>(used.p_world.size()) >= options_.min_scale_points) {
+      motion = MapMotion{mapPose(prev.T_world_camera, used.p_world, used.xy_prev),
+                         mapPose(board.T_world_camera, used.p_world, used.xy_now)};
+      result->measured += static_cast<int>(used.p_world.size());
     }
   }
   // The filter (re)starts, e.g. when the board returns after a gap, or has no motion to go by:
@@ -229,7 +243,12 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   // the image's edge above all) leaves loose.
   std::optional<PoseWithCovariance> start;
   if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
-  return fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
+  const SE3 fused = fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
+  if (getenv("FUSEDBG")) {
+    const Vec3 tb = board.T_world_camera.t(), tm = start ? start->T_camera_world.inverse().t() : Vec3::Zero(), tf = fused.t();
+    fprintf(stderr, "FUSE %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f %zu %d\n", tb.x(), tb.y(), tb.z(), tm.x(), tm.y(), tm.z(), tf.x(), tf.y(), tf.z(), board.ids.size(), motion ? 1 : 0);
+  }
+  return fused;
 }
 
 std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
