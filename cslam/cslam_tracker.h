@@ -70,7 +70,9 @@ struct CslamOptions {
     v("map_refinement", map_refinement, "refinement of a pose on the map's points (two-view motion, fusion)");
     v("max_map_error_px", max_map_error_px,
       "a two-view pose whose median reprojection error of map points exceeds this is lost, pixels");
-    v("map", map, "triangulation of the features (thesis Algorithm 3.1; calibration and two_view modes)");
+    v("map", map,
+      "triangulation of the features from every posed frame (thesis Algorithm 3.1): the map of calibration and "
+      "two_view modes, the fusion's frame-to-frame motion in combined mode");
     v("refinement", refinement,
       "combined mode: the map from keyframes refined over a sliding window by bundle adjustment, re-anchored "
       "when the board returns");
@@ -112,7 +114,7 @@ class CslamTracker : public Tracker {
     std::unordered_map<int, Vec2> xy_normalised;  // feature id -> undistorted normalised coordinates
   };
 
-  void makeMap();  // once the camera is known: the refined map (combined mode) or the thesis's
+  void makeMap();  // once the camera is known: the thesis's map, and in combined mode the refined one
   bool gatherCalibrationViews(const Frame& frame, FrameResult* result);
   struct BoardView {
     SE3 T_world_camera;            // from the board alone
@@ -129,7 +131,8 @@ class CslamTracker : public Tracker {
   BoardView boardView(BoardCorners corners) const;  // the pose from the corners
   // The frames that gathered calibration views, posed now that the camera is known.
   std::vector<LatePose> posesOfGatheringFrames();
-  // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
+  // Combined mode: the board pose fused with the features' motion from the previous frame (xy:
+  // the features' coordinates).
   SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index, FrameResult* result);
   // The pose from the board's corners and the refined map's points together (weighted by their
   // standard deviations), with its covariance; empty with too few map points.

@@ -16,16 +16,6 @@ std::vector<SE3> cameraPath(int n) {
   return poses;
 }
 
-std::vector<Ray> raysTo(const Vec3& p_world, const std::vector<SE3>& poses, double noise, std::mt19937* rng) {
-  std::normal_distribution<double> n(0, noise);
-  std::vector<Ray> rays;
-  for (const SE3& T : poses) {
-    const Vec2 xy = (T.inverse() * p_world).hnormalized() + Vec2(n(*rng), n(*rng));
-    rays.push_back(rayFromObservation(T, xy));
-  }
-  return rays;
-}
-
 TEST(FeatureMap, PointsBecomeUsableWithParallaxAndMatchBothMethods) {
   const Vec3 p(0.2, 0.1, 1.0);
   for (const std::string method : {"least_squares", "midpoint_average"}) {
