@@ -42,7 +42,7 @@ double sampleGrid(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
 
 // A corner is dropped when the grid's homography misses it by more than max_corner_error_px and
 // by more than this many times the median corner.
-constexpr double kMaxCornerErrorOverMedian = 4.0;
+constexpr double kMaxCornerErrorOverMedian = 3.0;
 // A corner's four squares are sampled this far from it along the grid (squares): inside the
 // sub-pixel window (under half a square wide), where an occluding edge would pull the refinement.
 constexpr double kSquareSampleOffset = 0.3;
@@ -195,18 +195,44 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
     plane = std::move(clear_plane);
     undistorted = std::move(clear_undistorted);
   }
-  std::vector<double> errors;
-  for (;;) {
-    errors = homographyErrors(homographyDlt(plane, undistorted), plane, undistorted);
-    std::vector<double> sorted = errors;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double limit = std::max(options_.max_corner_error_px, kMaxCornerErrorOverMedian * sorted[sorted.size() / 2]);
-    const size_t worst = std::max_element(errors.begin(), errors.end()) - errors.begin();
-    if (errors[worst] <= limit) break;
-    if (static_cast<int>(kept.ids.size()) <= minCorners()) return false;
-    for (auto* v : {&plane, &undistorted}) v->erase(v->begin() + worst);
-    kept.ids.erase(kept.ids.begin() + worst);
-    kept.uv.erase(kept.uv.begin() + worst);
+  // The corners the grid's homography does not fit are dropped: the homography from a robust fit
+  // (RANSAC at max_corner_error_px, then least squares on its inliers), the limit that or a few
+  // times the median corner's error, whichever is larger (blurred real corners are noisier).
+  std::vector<cv::Point2f> plane_cv, undistorted_cv;
+  for (size_t k = 0; k < plane.size(); ++k) {
+    plane_cv.emplace_back(static_cast<float>(plane[k].x()), static_cast<float>(plane[k].y()));
+    undistorted_cv.emplace_back(static_cast<float>(undistorted[k].x()), static_cast<float>(undistorted[k].y()));
+  }
+  std::vector<uchar> inlier;
+  if (cv::findHomography(plane_cv, undistorted_cv, cv::RANSAC, options_.max_corner_error_px, inlier).empty())
+    return false;
+  std::vector<Vec2> inlier_plane, inlier_undistorted;
+  for (size_t k = 0; k < plane.size(); ++k)
+    if (inlier[k]) inlier_plane.push_back(plane[k]), inlier_undistorted.push_back(undistorted[k]);
+  if (static_cast<int>(inlier_plane.size()) < std::max(4, minCorners())) return false;
+  std::vector<double> errors = homographyErrors(homographyDlt(inlier_plane, inlier_undistorted), plane, undistorted);
+  std::vector<double> sorted;
+  for (size_t k = 0; k < errors.size(); ++k)
+    if (inlier[k]) sorted.push_back(errors[k]);
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double limit = std::max(options_.max_corner_error_px, kMaxCornerErrorOverMedian * sorted[sorted.size() / 2]);
+  {
+    BoardCorners fitting;
+    std::vector<Vec2> fitting_plane, fitting_undistorted;
+    std::vector<double> fitting_errors;
+    for (size_t k = 0; k < errors.size(); ++k) {
+      if (errors[k] > limit) continue;
+      fitting.ids.push_back(kept.ids[k]);
+      fitting.uv.push_back(kept.uv[k]);
+      fitting_plane.push_back(plane[k]);
+      fitting_undistorted.push_back(undistorted[k]);
+      fitting_errors.push_back(errors[k]);
+    }
+    if (static_cast<int>(fitting.ids.size()) < minCorners()) return false;
+    kept = std::move(fitting);
+    plane = std::move(fitting_plane);
+    undistorted = std::move(fitting_undistorted);
+    errors = std::move(fitting_errors);
   }
   kept.complete = static_cast<int>(kept.ids.size()) == target_.numCorners();
   double sum = 0;

@@ -47,8 +47,8 @@ struct BoardCornerTrackerOptions {
     v("max_grid_error_px", max_grid_error_px,
       "tracked corners are accepted when a homography fits the undistorted grid to this RMS, pixels");
     v("max_corner_error_px", max_corner_error_px,
-      "findCorners: a corner the homography of the others misses by more than this (and by 4 times the median "
-      "corner) is dropped, pixels (the edge of something hiding part of the board pulls the refinement off)");
+      "findCorners: a corner the grid's homography (a robust fit) misses by more than this (and by 3 times the "
+      "median corner) is dropped, pixels (the edge of something hiding part of the board pulls the refinement off)");
     v("max_refine_shift_px", max_refine_shift_px,
       "a tracked or predicted corner that sub-pixel refinement moves further than this is dropped, pixels");
     v("search_interval_when_lost", search_interval_when_lost,
