@@ -1,8 +1,6 @@
 #include "cslam/cslam_tracker.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 
 #include <opencv2/video/tracking.hpp>
 
@@ -243,12 +241,7 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   // the image's edge above all) leaves loose.
   std::optional<PoseWithCovariance> start;
   if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
-  const SE3 fused = fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
-  if (getenv("FUSEDBG")) {
-    const Vec3 tb = board.T_world_camera.t(), tm = start ? start->T_camera_world.inverse().t() : Vec3::Zero(), tf = fused.t();
-    fprintf(stderr, "FUSE %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f %.6f %zu %d\n", tb.x(), tb.y(), tb.z(), tm.x(), tm.y(), tm.z(), tf.x(), tf.y(), tf.z(), board.ids.size(), motion ? 1 : 0);
-  }
-  return fused;
+  return fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
 }
 
 std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
