@@ -1,8 +1,11 @@
 // Cost of each stage of the CSLAM back-end, called as cslam_tracker.cc calls it, with its default
 // options, on real-looking frames: the tv1 preset (640x480, rendered once into a temporary folder
-// and shared with bench_tracking), board_leaves for frames without the board, and the first 60
-// frames of the shared VAMR data (752x480 JPEG; those benchmarks are skipped when it is absent).
-// The EKF's stages are in bench_monoslam; whole frames in bench_tracking.
+// and shared with bench_tracking), board_leaves for frames without the board and the board's
+// return, board_partial for a board partly out of the image, and the first 60 frames of the
+// shared VAMR data (752x480 JPEG; those benchmarks are skipped when it is absent). The n-view
+// refinement's estimators (bundle adjustment of a window, the gap's pose graph) run on synthetic
+// problems of the window's size. The EKF's stages are in bench_monoslam; whole frames in
+// bench_tracking.
 //
 //   build/benchmarks/bench_stages [--benchmark_filter=tv1]
 //
@@ -21,6 +24,9 @@
 
 #include "benchmarks/bench_frames.h"
 #include "core/chessboard.h"
+#include "cslam/map_point_search.h"
+#include "geometry/bundle_adjustment.h"
+#include "geometry/pose_graph.h"
 #include "tracking/board_corner_tracker.h"
 #include "cslam/cslam_tracker.h"
 #include "geometry/essential_eight_point.h"
@@ -33,7 +39,8 @@ namespace slamcmp {
 namespace {
 
 constexpr int kVamrFrames = 60;
-constexpr int kBoardLeavesFrames = 160;  // the board is out of view from about frame 110 to 150
+constexpr int kBoardLeavesFrames = 200;  // the board is out of view from about frame 95 to 165, back by 175
+constexpr int kBoardPartialFrames = 60;  // up to half the board out of the image from about frame 14
 constexpr int kPyramidFrames = 20;       // consecutive frames whose pyramids are kept in memory
 constexpr int kMaxBoardFrames = 20;      // board frames whose corners are detected up front
 constexpr int kTwoViewGap = 5;           // frames between the two views of the eight-point benchmark
@@ -45,6 +52,8 @@ struct StageData {
   ChessboardTarget target;
   std::vector<int> board_visible;  // frames whose whole board projects into the image (ground truth)
   std::vector<int> board_absent;   // frames where no corner of the board does
+  std::vector<int> board_partial;  // frames where half the corners or more do, not all
+  std::vector<SE3> T_world_camera;  // the ground truth of every frame (identity where none)
   std::vector<int> detected;       // frames (among board_visible) where the detector found the board
   std::vector<std::vector<cv::Point2f>> corners;  // their corners, distorted pixels
   std::vector<std::vector<Vec2>> corners_normalised;  // undistorted normalised
@@ -66,9 +75,11 @@ void classifyByGroundTruth(StageData* d) {
   std::map<double, SE3> T_world_camera;
   for (const auto& pose : *seq.groundtruth) T_world_camera[pose.timestamp] = pose.T_world_camera;
   const std::vector<Vec3> corners = d->target.cornersWorld();
+  d->T_world_camera.assign(d->b->frames.size(), SE3());
   for (int i = 0; i < static_cast<int>(d->b->frames.size()); ++i) {
     const auto it = T_world_camera.lower_bound(d->b->frames[i].timestamp - 1e-6);
     if (it == T_world_camera.end() || it->first > d->b->frames[i].timestamp + 1e-6) continue;
+    d->T_world_camera[i] = it->second;
     const SE3 T_camera_world = it->second.inverse();
     int in_view = 0;
     for (const Vec3& p : corners) {
@@ -77,6 +88,8 @@ void classifyByGroundTruth(StageData* d) {
     }
     if (in_view == static_cast<int>(corners.size())) d->board_visible.push_back(i);
     if (in_view == 0) d->board_absent.push_back(i);
+    if (2 * in_view >= static_cast<int>(corners.size()) && in_view < static_cast<int>(corners.size()))
+      d->board_partial.push_back(i);
   }
 }
 
@@ -120,14 +133,15 @@ std::unique_ptr<StageData> prepare(const BenchSequence* b) {
   return d;
 }
 
-// "tv1", "board_leaves" or "vamr"; nullptr when the data is absent.
+// "tv1", "board_leaves", "board_partial" or "vamr"; nullptr when the data is absent.
 const StageData* stageData(const std::string& set) {
   static std::map<std::string, std::unique_ptr<StageData>> cache;
   auto it = cache.find(set);
   if (it != cache.end()) return it->second.get();
-  const BenchSequence* b = set == "vamr"           ? sharedSequence("vamr_checkerboard", kVamrFrames)
-                           : set == "board_leaves" ? &renderedSequence("board_leaves", kBoardLeavesFrames)
-                                                   : &renderedSequence(set, 120);
+  const BenchSequence* b = set == "vamr"            ? sharedSequence("vamr_checkerboard", kVamrFrames)
+                           : set == "board_leaves"  ? &renderedSequence("board_leaves", kBoardLeavesFrames)
+                           : set == "board_partial" ? &renderedSequence("board_partial", kBoardPartialFrames)
+                                                    : &renderedSequence(set, 120);
   return (cache[set] = b ? prepare(b) : nullptr).get();
 }
 
@@ -200,6 +214,178 @@ void BM_BoardCornerTracking(benchmark::State& state, const std::string& set) {
     ++i;
   }
   state.counters["tracked"] = benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
+}
+
+// The per-frame board step (BoardCornerTracker::findCorners, no full search) on frames showing no
+// corner of the board, where the predicted pose puts the board in the image (the pose of a frame
+// that shows all of it: the worst case, the test finding nothing) or out of it (the frame's own
+// pose: nothing is searched). The cost of looking for the board in every frame while it is away;
+// the full search it replaces as the test is BM_ChessboardDetect/board_leaves/board_absent.
+void BM_BoardAbsentTest(benchmark::State& state, bool predicted_in_view) {
+  const StageData* d = dataOrSkip(state, "board_leaves", false);
+  if (!d) return;
+  if (d->board_absent.empty() || d->board_visible.empty()) {
+    state.SkipWithError("board_leaves has no frame without the board, or none with it");
+    return;
+  }
+  BoardCornerTracker tracker(d->target, cslamOptions().board);
+  size_t i = 0;
+  int64_t found = 0;
+  for (auto _ : state) {
+    const int frame = d->board_absent[i];
+    const SE3& T_predicted = predicted_in_view ? d->T_world_camera[d->board_visible.front()] : d->T_world_camera[frame];
+    found += tracker.findCorners(d->b->frames[frame].grey, {}, {}, lkWindow(), cslamOptions().lk_levels, d->camera,
+                                 &T_predicted, false)
+                 .has_value();
+    i = (i + 1) % d->board_absent.size();
+  }
+  state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+}
+
+// The board found again where a predicted pose puts it: board_leaves' frames that show the
+// whole board, predicted 3 mm and 0.2 degrees off (a gap's drift), no previous corners to track.
+void BM_BoardReacquire(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "board_leaves", false);
+  if (!d) return;
+  if (d->board_visible.empty()) {
+    state.SkipWithError("board_leaves has no frame with the whole board");
+    return;
+  }
+  const SE3 drift = SE3::fromRotvec(Vec3(0.002, -0.0025, 0.001), Vec3(0.002, -0.0015, 0.0015));
+  size_t i = 0;
+  int64_t found = 0;
+  for (auto _ : state) {
+    const int frame = d->board_visible[i];
+    BoardCornerTracker tracker(d->target, cslamOptions().board);
+    const SE3 T_predicted = d->T_world_camera[frame] * drift;
+    found += tracker.findCorners(d->b->frames[frame].grey, {}, {}, lkWindow(), cslamOptions().lk_levels, d->camera,
+                                 &T_predicted, false)
+                 .has_value();
+    i = (i + 1) % d->board_visible.size();
+  }
+  state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+}
+
+// Tracking a board partly out of the image (board_partial's frames with half its corners or
+// more in view): Lucas-Kanade from the previous frame, the re-entering corners added, confirmed.
+void BM_BoardPartialTracking(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "board_partial", false);
+  if (!d) return;
+  std::vector<int> frames;  // partial frames whose previous frame is among the kept pyramids
+  for (int f : d->board_partial)
+    if (f >= 1 && f < static_cast<int>(d->pyramids.size())) frames.push_back(f);
+  if (frames.empty()) {
+    state.SkipWithError("no partial-board frame among the first frames of board_partial");
+    return;
+  }
+  size_t i = 0;
+  int64_t corners = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const int f = frames[i];
+    BoardCornerTracker tracker(d->target, cslamOptions().board);
+    // The previous frame's corners, found where its true pose puts them.
+    tracker.findCorners(d->b->frames[f - 1].grey, {}, {}, lkWindow(), cslamOptions().lk_levels, d->camera,
+                        &d->T_world_camera[f - 1], false);
+    state.ResumeTiming();
+    const auto found = tracker.findCorners(d->b->frames[f].grey, d->pyramids[f - 1], d->pyramids[f], lkWindow(),
+                                           cslamOptions().lk_levels, d->camera, &d->T_world_camera[f], false);
+    corners += found ? static_cast<int64_t>(found->ids.size()) : 0;
+    i = (i + 1) % frames.size();
+  }
+  state.counters["corners"] = benchmark::Counter(static_cast<double>(corners), benchmark::Counter::kAvgIterations);
+}
+
+// One refinement of the keyframe window as the back-end runs it: window_keyframes free keyframes
+// and as many fixed older ones, 150 points seen from all of them (0.3 px noise), the board's 54
+// corners fixed in the oldest free keyframe, from poses and points perturbed by 2 mm / 0.1 degree
+// and 1 cm.
+void BM_WindowBundleAdjustment(benchmark::State& state) {
+  const int n_free = cslamOptions().refinement.window_keyframes;
+  const int n_fixed = cslamOptions().refinement.max_fixed_keyframes;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> noise(0, 0.3 / 525);
+  std::vector<SE3> T_world_camera;
+  for (int k = 0; k < n_free + n_fixed; ++k)
+    T_world_camera.push_back(SE3::fromRotvec(Vec3(0.02 * u(rng), 0.01 * k, 0.02 * u(rng)),
+                                             Vec3(0.16 + 0.01 * k, 0.1 + 0.005 * u(rng), -0.85)));
+  std::vector<Vec3> points;
+  for (int j = 0; j < 150; ++j) points.push_back(Vec3(0.16 + 0.5 * u(rng), 0.1 + 0.35 * u(rng), 0.2 * u(rng) + 0.1));
+  const ChessboardTarget target{9, 6, 0.04};
+  const auto xy = [&](int k, const Vec3& p) {
+    const Vec3 c = T_world_camera[k].inverse() * p;
+    return Vec2(c.x() / c.z() + noise(rng), c.y() / c.z() + noise(rng));
+  };
+  for (auto _ : state) {
+    state.PauseTiming();
+    BundleAdjustment ba;
+    for (int k = 0; k < n_free + n_fixed; ++k) {
+      const bool fixed = k < n_fixed;
+      const SE3 start = fixed ? T_world_camera[k]
+                              : T_world_camera[k] * SE3::fromRotvec(Vec3(0.0017 * u(rng), 0.0017 * u(rng), 0),
+                                                                   Vec3(0.002 * u(rng), 0.002 * u(rng), 0));
+      ba.addCamera(start.inverse(), fixed);
+    }
+    for (const Vec3& p : points) {
+      const int j = ba.addPoint(p + Vec3(0.01 * u(rng), 0.01 * u(rng), 0.01 * u(rng)), false);
+      for (int k = 0; k < n_free + n_fixed; ++k) ba.addObservation(k, j, xy(k, p), 0.3);
+    }
+    for (const Vec3& c : target.cornersWorld()) ba.addObservation(n_fixed, ba.addPoint(c, true), xy(n_fixed, c), 0.1);
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(ba.solve(cslamOptions().refinement.bundle_adjustment, 525));
+  }
+}
+
+// The gap's re-anchoring: a chain of 40 keyframes (a 12 s gap) held at both ends.
+void BM_GapPoseGraph(benchmark::State& state) {
+  constexpr int n = 42;
+  std::vector<SE3> nodes;
+  std::vector<char> fixed(n, 0);
+  fixed.front() = fixed.back() = 1;
+  std::vector<PoseGraphEdge> edges;
+  for (int k = 0; k < n; ++k) nodes.push_back(SE3::fromRotvec(Vec3(0, 0.04 * k, 0), Vec3(0.01 * k, 0, 0)));
+  for (int k = 0; k + 1 < n; ++k) {
+    PoseGraphEdge e;
+    e.from = k;
+    e.to = k + 1;
+    // Each motion measured 0.1 % short and 0.01 degrees off: the drift the chain spreads.
+    const SE3 motion = nodes[k].inverse() * nodes[k + 1];
+    e.T_from_to = SE3(rotationFromRotvec(Vec3(0, 0.0002, 0)) * motion.R(), 0.999 * motion.t());
+    edges.push_back(e);
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(optimisePoseGraph(nodes, fixed, edges));
+}
+
+// Map points looked for where the pose projects them (at keyframes while few are tracked): 60
+// points of tv1's first frame, their patches taken there, searched for 5 frames later.
+void BM_MapPointSearch(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "tv1", false);
+  if (!d || d->b->frames.size() < 6) return;
+  FeatureTracker detector(cslamOptions().features);
+  detector.replenish(d->b->frames[0].grey);
+  // The points on the board's wall (z = 0) under the features, from the true pose.
+  std::vector<cv::Mat> patches;
+  std::vector<MapPointCandidate> candidates;
+  const SE3& T0 = d->T_world_camera[0];
+  for (const Feature& f : detector.features()) {
+    if (static_cast<int>(candidates.size()) == 60) break;
+    const Vec3 ray = T0.R() * d->camera.undistortPixel(Vec2(f.uv.x, f.uv.y)).homogeneous();
+    if (std::abs(ray.z()) < 1e-9) continue;
+    const double s = -T0.t().z() / ray.z();
+    if (s <= 0) continue;
+    patches.push_back(mapPointPatch(d->b->frames[0].grey, f.uv));
+    candidates.push_back({f.id, T0.t() + s * ray, nullptr, T0.t(), 5});
+  }
+  for (size_t k = 0; k < candidates.size(); ++k) candidates[k].patch = &patches[k];
+  int64_t found = 0;
+  for (auto _ : state)
+    found += static_cast<int64_t>(searchMapPoints(d->b->frames[5].grey, d->camera, d->T_world_camera[5], candidates,
+                                                   {}, cslamOptions().features.min_distance_px,
+                                                   cslamOptions().map_search)
+                                      .size());
+  state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+  state.counters["searched"] = static_cast<double>(candidates.size());
 }
 
 void BM_HomographyPose(benchmark::State& state, const std::string& set, bool refine) {
@@ -372,6 +558,13 @@ const bool registered = [] {
   };
   add("BM_ChessboardDetect/board_leaves/board_absent",
       [](auto& s) { BM_ChessboardDetect(s, "board_leaves", false); }, benchmark::kMillisecond);
+  add("BM_BoardAbsentTest/board_leaves/predicted_in_view", [](auto& s) { BM_BoardAbsentTest(s, true); });
+  add("BM_BoardAbsentTest/board_leaves/predicted_out_of_view", [](auto& s) { BM_BoardAbsentTest(s, false); });
+  add("BM_BoardReacquire/board_leaves", [](auto& s) { BM_BoardReacquire(s); });
+  add("BM_BoardPartialTracking/board_partial", [](auto& s) { BM_BoardPartialTracking(s); });
+  add("BM_WindowBundleAdjustment", [](auto& s) { BM_WindowBundleAdjustment(s); });
+  add("BM_GapPoseGraph", [](auto& s) { BM_GapPoseGraph(s); });
+  add("BM_MapPointSearch/tv1", [](auto& s) { BM_MapPointSearch(s); });
   for (const std::string set : {"tv1", "vamr"}) {
     add("BM_ChessboardDetect/" + set + "/board_present", [set](auto& s) { BM_ChessboardDetect(s, set, true); },
         benchmark::kMillisecond);

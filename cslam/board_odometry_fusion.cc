@@ -10,6 +10,7 @@ void BoardOdometryFusionOptions::check() const {
   if (!(min_pixel_sigma > 0)) throw OptionError("min_pixel_sigma", "must be positive");
   if (!(motion_noise_scale > 0)) throw OptionError("motion_noise_scale", "must be positive");
   if (!(max_mahalanobis2 > 0)) throw OptionError("max_mahalanobis2", "must be positive");
+  if (!(fast_rotation_deg > 0)) throw OptionError("fast_rotation_deg", "must be positive");
 }
 
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
@@ -22,24 +23,23 @@ PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vect
   return {T_camera_world, sigma2 * H.completeOrthogonalDecomposition().pseudoInverse()};
 }
 
-void BoardOdometryFusion::reset() {
-  fused_.reset();
-  map_prev_.reset();
-}
+void BoardOdometryFusion::reset() { fused_.reset(); }
 
-SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose) {
-  const std::optional<PoseWithCovariance> map_prev = map_prev_;
-  map_prev_ = map_pose;
-  if (!fused_ || !map_prev || !map_pose) {
-    fused_ = board;
-    return board.T_camera_world;
+SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
+                                const PoseWithCovariance* start) {
+  if (!fused_ || !map_motion) {
+    fused_ = start ? *start : board;
+    return fused_->T_camera_world;
   }
+  const PoseWithCovariance* map_prev = &map_motion->previous;
+  const PoseWithCovariance* map_pose = &map_motion->current;
   // Prediction: the previous fused pose moved by the features' motion (both map poses hold the
   // map's error alike, so it cancels in their difference). The covariance is carried over without
   // the motion's adjoint: frame-to-frame motion is small.
   const SE3 motion = map_pose->T_camera_world * map_prev->T_camera_world.inverse();
+  const double fast = rotationAngle(motion.R()) * 180 / M_PI / options_.fast_rotation_deg;
   PoseWithCovariance predicted{motion * fused_->T_camera_world,
-                               fused_->covariance + options_.motion_noise_scale * map_pose->covariance};
+                               fused_->covariance + options_.motion_noise_scale * (1 + fast * fast) * map_pose->covariance};
   // Update with the board pose as the measurement (Kalman, in the tangent space of the prediction).
   const Vec6 innovation = poseDifference(board.T_camera_world, predicted.T_camera_world);
   // An innovation beyond the gate means the prediction is worse than its covariance says (the

@@ -17,6 +17,10 @@ struct BoardOdometryFusionOptions {
   // hold the map's error, which cancels in the frame-to-frame motion, so the estimate overstates
   // the motion's noise: 0.1 measured best on tv1..tv4 (0.5: ATE 5 to 15 % higher).
   double motion_noise_scale = 0.1;
+  // Tracked features drift as the image moves fast (their patches change with the view): the
+  // motion's covariance grows by (1 + (rotation / this)^2). 1 degree kept tv1..tv4 as they were
+  // and halved the error through board_leaves' pan.
+  double fast_rotation_deg = 1.0;
   // A gross-error gate, far beyond chi2(6) (22.5 is its 99.9 %): tighter gates fire on the far
   // frames of tv3 and tv4, where the board's own noise grows, and cost 15 to 25 % of ATE.
   double max_mahalanobis2 = 100;  // board against prediction beyond this: prediction inflated
@@ -27,6 +31,8 @@ struct BoardOdometryFusionOptions {
       "floor on the pixel noise estimated from the reprojection residuals (board and map), pixels");
     v("motion_noise_scale", motion_noise_scale,
       "the frame-to-frame motion's covariance over its Gauss-Newton estimate (two map poses and map drift)");
+    v("fast_rotation_deg", fast_rotation_deg,
+      "the motion's covariance grows by 1 + (its rotation / this)^2 (features drift in fast turns), degrees");
     v("max_mahalanobis2", max_mahalanobis2,
       "squared Mahalanobis distance between board pose and prediction beyond which the prediction's covariance "
       "is inflated until they agree");
@@ -46,21 +52,31 @@ PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vect
                                       const std::vector<Vec2>& xy_normalised, double focal_px, double rms_px,
                                       double min_sigma_px);
 
+// The features' poses in the previous frame and in this one against the same map points: their
+// difference is the frame-to-frame motion (the map's error cancels in it).
+struct MapMotion {
+  PoseWithCovariance previous, current;
+};
+
 class BoardOdometryFusion {
  public:
   explicit BoardOdometryFusion(const BoardOdometryFusionOptions& options) : options_(options) {}
 
-  // One frame with the board. motion: the features' pose in this frame and the previous one
-  // against the same map (their difference is the relative motion), when both exist.
-  // Returns the fused T_camera_world.
-  SE3 update(const PoseWithCovariance& board, const std::optional<PoseWithCovariance>& map_pose);
+  // One frame with the board, and the features' motion from the previous frame when it was
+  // measured. Returns the fused T_camera_world. Without a motion to fuse with (or a filter to
+  // move by it) the filter (re)starts from `start` if given (a better pose of this frame than the
+  // board's alone), else from the board pose.
+  SE3 update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
+             const PoseWithCovariance* start = nullptr);
+  bool restarting() const { return !fused_; }
+  // Starts the filter again from this frame's pose (e.g. the map under it was corrected).
+  void restartFrom(const PoseWithCovariance& pose) { fused_ = pose; }
   // A frame without the board (or not posed): the next board frame restarts the filter.
   void reset();
 
  private:
   BoardOdometryFusionOptions options_;
-  std::optional<PoseWithCovariance> fused_;     // the previous frame's
-  std::optional<PoseWithCovariance> map_prev_;  // the previous frame's map pose
+  std::optional<PoseWithCovariance> fused_;  // the previous frame's
 };
 
 }  // namespace slamcmp

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/options.h"
 #include "core/statistics.h"
+#include "geometry/bundle_adjustment.h"
 #include "geometry/essential_eight_point.h"
 #include "geometry/pose_refinement.h"
 #include "geometry/triangulation.h"
@@ -21,6 +22,19 @@ void CslamOptions::check() const {
   if (two_view_init_map_points < 1) throw OptionError("two_view_init_map_points", "must be >= 1");
   if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
 }
+
+namespace {
+
+// The motion model predicts at most this many frames past the last pose.
+constexpr int kMaxFramesPredicted = 5;
+// The fusion's motion is measured on the thesis's map when it holds this many of the tracked
+// features, else on the refined map.
+constexpr int kMinThesisMotionPoints = 30;
+// A point the refined map placed with too little parallax counts with this many times a feature's
+// standard deviation in a frame's pose.
+constexpr double kBarelyTriangulatedSigmaFactor = 3.0;
+
+}  // namespace
 
 CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTarget& target, cv::Size image_size,
                            const std::string& mode, const CslamOptions& options, bool want_overlay)
@@ -45,7 +59,7 @@ CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTa
   }
   if (camera_) {
     focal_px_ = 0.5 * (camera_->fx + camera_->fy);
-    map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+    makeMap();
   } else {
     calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
   }
@@ -70,7 +84,20 @@ void CslamTracker::finish() {
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }
 
-std::vector<MapPoint> CslamTracker::mapPoints() const { return map_ ? map_->points() : std::vector<MapPoint>{}; }
+std::vector<MapPoint> CslamTracker::mapPoints() const {
+  if (window_) return window_->points();
+  return map_ ? map_->points() : std::vector<MapPoint>{};
+}
+
+void CslamTracker::makeMap() {
+  map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+  if (mode_ == Mode::Combined && options_.refinement.enabled)
+    window_ = std::make_unique<KeyframeWindow>(options_.refinement, focal_px_, corners_world_);
+}
+
+std::optional<Vec3> CslamTracker::mapPosition(int feature_id) const {
+  return window_ ? window_->position(feature_id) : map_->position(feature_id);
+}
 
 std::vector<Vec2> CslamTracker::featuresNormalised() const {
   std::vector<Vec2> xy;
@@ -93,7 +120,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
       camera_ = calibrated->camera;
       calibration_rms_px_ = calibrated->rms_px;
       focal_px_ = 0.5 * (camera_->fx + camera_->fy);
-      map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
+      makeMap();
       calibrator_.reset();
       if (!gathered_.empty() && gathered_.back().frame_index == frame.index) gathered_.pop_back();  // posed below
       result->late_poses = posesOfGatheringFrames();
@@ -106,7 +133,9 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
   return false;
 }
 
-std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::Mat& grey, FrameResult* result) {
+std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::Mat& grey,
+                                                                      const std::optional<SE3>& T_world_predicted,
+                                                                      FrameResult* result) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   // A full search costs up to seconds on a cluttered frame with part of the board or none: skip it
   // while the last pose says the board is not well inside the image.
@@ -119,20 +148,30 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
                        camera_->inImage(camera_->project(p_camera), options_.board.search_margin_px);
     }
   }
-  // A symmetric board's origin is kept by continuity with the last posed frame.
-  auto corners = board_.find(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, &*camera_, board_expected,
-                             history_.empty() ? nullptr : &history_.back().T_world_camera);
+  // The corners are tracked from where the predicted pose puts them, and a lost board is looked
+  // for there (a symmetric board's origin is kept by continuity with it); the last posed frame's
+  // pose stands in when this one cannot be predicted.
+  const SE3* T_world_reference = T_world_predicted   ? &*T_world_predicted
+                                 : history_.empty() ? nullptr
+                                                    : &history_.back().T_world_camera;
+  auto corners = board_.findCorners(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, *camera_,
+                                    T_world_reference, board_expected);
   if (!corners) return std::nullopt;
-  result->measured = static_cast<int>(corners->size());
+  result->measured = static_cast<int>(corners->ids.size());
+  if (!corners->complete)
+    result->reason = "part of the board (" + std::to_string(corners->ids.size()) + " of " +
+                     std::to_string(target_.numCorners()) + " corners)";
   return boardView(std::move(*corners));
 }
 
-CslamTracker::BoardView CslamTracker::boardView(std::vector<cv::Point2f> uv) const {
+CslamTracker::BoardView CslamTracker::boardView(BoardCorners corners) const {
   BoardView view;
-  view.uv = std::move(uv);
+  view.ids = std::move(corners.ids);
+  view.uv = std::move(corners.uv);
   view.xy.reserve(view.uv.size());
   for (const auto& c : view.uv) view.xy.push_back(camera_->undistortPixel(Vec2(c.x, c.y)));
-  const BoardPose pose = boardPose(corners_world_, view.xy, focal_px_, options_.board_pose);
+  for (int id : view.ids) view.p_world.push_back(corners_world_[id]);
+  const BoardPose pose = boardPose(view.p_world, view.xy, focal_px_, options_.board_pose);
   view.T_world_camera = pose.T_camera_board.inverse();
   view.rms_px = pose.rms_px;
   return view;
@@ -143,28 +182,87 @@ std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
   // symmetric board's origin is already the same in all of them and in the frames to come.
   std::vector<LatePose> late;
   late.reserve(gathered_.size());
-  for (const GatheredCorners& g : gathered_)
-    late.push_back({g.frame_index, "board", boardView(g.uv).T_world_camera, static_cast<int>(g.uv.size())});
+  for (const GatheredCorners& g : gathered_) {
+    BoardCorners corners;
+    corners.uv = g.uv;
+    corners.ids.resize(g.uv.size());
+    for (size_t k = 0; k < g.uv.size(); ++k) corners.ids[k] = static_cast<int>(k);
+    corners.complete = true;
+    late.push_back({g.frame_index, "board", boardView(std::move(corners)).T_world_camera, static_cast<int>(g.uv.size())});
+  }
   gathered_.clear();
   return late;
 }
 
-SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result) {
-  const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), corners_world_, board.xy,
+SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index,
+                                  FrameResult* result) {
+  const PoseWithCovariance board_pose = poseWithCovariance(board.T_world_camera.inverse(), board.p_world, board.xy,
                                                            focal_px_, board.rms_px, options_.fusion.min_pixel_sigma);
-  // The features' pose against the map (its error cancels in the frame-to-frame motion).
-  const MapCorrespondences seen = mapPointsSeen(xy);
-  const std::vector<Vec3>& p_world = seen.p_world;
-  const std::vector<Vec2>& xy_map = seen.xy_normalised;
-  std::optional<PoseWithCovariance> map_pose;
-  if (static_cast<int>(p_world.size()) >= options_.min_scale_points) {
-    const auto refined =
-        refinePose(board.T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
-    map_pose = poseWithCovariance(refined.T_camera_world, p_world, xy_map, focal_px_, refined.rms_px,
-                                  options_.fusion.min_pixel_sigma);
-    result->measured += static_cast<int>(p_world.size());
+  // The features' motion from the previous frame: their poses in both frames against the same
+  // points of the map (the map's error cancels): the thesis's map (triangulated from every posed
+  // frame's rays, its points are the more accurate in forward motion), or the refined map while
+  // the thesis's holds few of them (the board back after a gap: the refined map's points are
+  // placed at less parallax, and found again).
+  std::optional<MapMotion> motion;
+  if (!history_.empty() && history_.back().index == frame_index - 1) {
+    const PosedFrame& prev = history_.back();
+    const auto& features = features_.features();
+    struct Common {
+      std::vector<Vec3> p_world;
+      std::vector<Vec2> xy_now, xy_prev;
+    } thesis, refined;
+    for (size_t i = 0; i < features.size(); ++i) {
+      const auto before = prev.xy_normalised.find(features[i].id);
+      if (before == prev.xy_normalised.end()) continue;
+      for (auto [map_point, common] : {std::make_pair(map_->position(features[i].id), &thesis),
+                                       std::make_pair(window_ ? window_->position(features[i].id) : std::nullopt,
+                                                      &refined)}) {
+        if (!map_point) continue;
+        common->p_world.push_back(*map_point);
+        common->xy_now.push_back(xy[i]);
+        common->xy_prev.push_back(before->second);
+      }
+    }
+    const Common& used = static_cast<int>(thesis.p_world.size()) >= kMinThesisMotionPoints || !window_ ? thesis : refined;
+    if (static_cast<int>(used.p_world.size()) >= options_.min_scale_points) {
+      motion = MapMotion{mapPose(prev.T_world_camera, used.p_world, used.xy_prev),
+                         mapPose(board.T_world_camera, used.p_world, used.xy_now)};
+      result->measured += static_cast<int>(used.p_world.size());
+    }
   }
-  return fusion_.update(board_pose, map_pose).inverse();
+  // The filter (re)starts, e.g. when the board returns after a gap, or has no motion to go by:
+  // from the board and the refined map together, whose points (found again, many of them placed
+  // while the board was seen) hold the board's tilt that a single view of it (a strip of it at
+  // the image's edge above all) leaves loose.
+  std::optional<PoseWithCovariance> start;
+  if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
+  return fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
+}
+
+std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
+                                                                const std::vector<Vec2>& xy) const {
+  const MapCorrespondences seen = mapPointsSeen(xy);
+  if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
+  const double sigma_board = options_.refinement.board_sigma_px, sigma_map = options_.refinement.feature_sigma_px;
+  BundleAdjustment ba;
+  const int camera = ba.addCamera(board.T_world_camera.inverse(), false);
+  for (size_t k = 0; k < board.p_world.size(); ++k)
+    ba.addObservation(camera, ba.addPoint(board.p_world[k], true), board.xy[k], sigma_board);
+  for (size_t k = 0; k < seen.p_world.size(); ++k)
+    ba.addObservation(camera, ba.addPoint(seen.p_world[k], true), seen.xy_normalised[k], sigma_map);
+  ba.solve(options_.refinement.bundle_adjustment, focal_px_);
+  const SE3 T_camera_world = ba.camera(camera);
+  const Mat6 information =
+      reprojectionHessian(T_camera_world, board.p_world, board.xy, focal_px_) / (sigma_board * sigma_board) +
+      reprojectionHessian(T_camera_world, seen.p_world, seen.xy_normalised, focal_px_) / (sigma_map * sigma_map);
+  return PoseWithCovariance{T_camera_world, information.completeOrthogonalDecomposition().pseudoInverse()};
+}
+
+PoseWithCovariance CslamTracker::mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
+                                        const std::vector<Vec2>& xy_normalised) const {
+  const auto refined = refinePose(T_world_start.inverse(), p_world, xy_normalised, focal_px_, options_.map_refinement);
+  return poseWithCovariance(refined.T_camera_world, p_world, xy_normalised, focal_px_, refined.rms_px,
+                            options_.fusion.min_pixel_sigma);
 }
 
 void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy) {
@@ -188,12 +286,14 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<V
 }
 
 std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameResult* result) {
-  // Map points seen now: their positions fix the scale and refine the pose.
+  // Map points seen now: their positions fix the scale and refine the pose. In a fast turn the
+  // features that enter the image have too little parallax to be map points for a while; the
+  // refined map has placed them all the same (their directions hold the rotation), and they
+  // take part with less weight.
   const MapCorrespondences seen = mapPointsSeen(xy);
-  const std::vector<Vec3>& p_world = seen.p_world;
-  const std::vector<Vec2>& xy_map = seen.xy_normalised;
-  const bool map_usable = static_cast<int>(p_world.size()) >= options_.min_scale_points;
-
+  const MapCorrespondences barely = window_ ? mapPointsSeen(xy, true) : MapCorrespondences{};
+  const int n_map = static_cast<int>(seen.p_world.size());
+  const bool map_usable = n_map + static_cast<int>(barely.p_world.size()) >= options_.min_scale_points;
   std::string essential_failure;
   std::optional<SE3> T_world_essential = essentialPose(xy, &essential_failure, result);
   if (!map_usable) {
@@ -209,11 +309,32 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
     SE3 T_camera_world;
     double median_px;
   };
+  // The fit is judged on the map points proper when there are enough of them.
+  const bool judge_on_map = n_map >= options_.min_scale_points;
   auto refineOnMap = [&](const SE3& T_world_camera) {
-    const auto refined =
-        refinePose(T_world_camera.inverse(), p_world, xy_map, focal_px_, options_.map_refinement);
-    return Candidate{refined.T_camera_world,
-                     median(reprojectionErrorsPx(refined.T_camera_world, p_world, xy_map, focal_px_))};
+    SE3 T_camera_world;
+    if (window_) {
+      BundleAdjustment ba;
+      const int camera = ba.addCamera(T_world_camera.inverse(), false);
+      for (size_t k = 0; k < seen.p_world.size(); ++k)
+        ba.addObservation(camera, ba.addPoint(seen.p_world[k], true), seen.xy_normalised[k],
+                          options_.refinement.feature_sigma_px);
+      for (size_t k = 0; k < barely.p_world.size(); ++k)
+        ba.addObservation(camera, ba.addPoint(barely.p_world[k], true), barely.xy_normalised[k],
+                          kBarelyTriangulatedSigmaFactor * options_.refinement.feature_sigma_px);
+      ba.solve(options_.refinement.bundle_adjustment, focal_px_);
+      T_camera_world = ba.camera(camera);
+    } else {
+      T_camera_world =
+          refinePose(T_world_camera.inverse(), seen.p_world, seen.xy_normalised, focal_px_, options_.map_refinement)
+              .T_camera_world;
+    }
+    std::vector<double> errors = reprojectionErrorsPx(T_camera_world, seen.p_world, seen.xy_normalised, focal_px_);
+    if (!judge_on_map) {
+      const auto more = reprojectionErrorsPx(T_camera_world, barely.p_world, barely.xy_normalised, focal_px_);
+      errors.insert(errors.end(), more.begin(), more.end());
+    }
+    return Candidate{T_camera_world, median(errors)};
   };
   std::optional<Candidate> from_essential;
   if (T_world_essential) from_essential = refineOnMap(*T_world_essential);
@@ -225,20 +346,57 @@ std::optional<SE3> CslamTracker::twoViewPose(const std::vector<Vec2>& xy, FrameR
     return std::nullopt;
   }
   if (!essential_wins) {
-    result->measured = static_cast<int>(p_world.size());
+    result->measured = n_map + static_cast<int>(barely.p_world.size());
     result->reason = (T_world_essential ? std::string("the map rejects the two-view motion")
-                                        : essential_failure) + "; pose from the map's points";
+                                        : essential_failure) +
+                     (judge_on_map ? "; pose from the map's points"
+                                   : "; pose from the map's points, most with little parallax");
   }
   return best.T_camera_world.inverse();
 }
 
 SE3 CslamTracker::predictedPose() const {
+  return T_world_predicted_ ? *T_world_predicted_ : history_.back().T_world_camera;
+}
+
+std::optional<SE3> CslamTracker::motionPrediction(int frame_index) const {
+  if (history_.empty()) return std::nullopt;
   const PosedFrame& last = history_.back();
-  if (history_.size() < 2 || !last_pose_) return last.T_world_camera;
-  // Constant velocity over consecutive posed frames.
+  const int ahead = frame_index - last.index;
+  if (ahead > kMaxFramesPredicted) return std::nullopt;
+  if (history_.size() < 2) return last.T_world_camera;
+  // Constant velocity over the last two consecutive posed frames, carried over frames lost since.
   const PosedFrame& before = history_[history_.size() - 2];
   if (last.index - before.index != 1) return last.T_world_camera;
-  return last.T_world_camera * (before.T_world_camera.inverse() * last.T_world_camera);
+  const SE3 step = before.T_world_camera.inverse() * last.T_world_camera;
+  SE3 T = last.T_world_camera;
+  for (int k = 0; k < ahead; ++k) T = T * step;
+  return T;
+}
+
+std::vector<cv::Point2f> CslamTracker::predictedFeatures(const SE3& T_world_predicted) const {
+  const PosedFrame& prev = history_.back();
+  const SE3 T_predicted_world = T_world_predicted.inverse();
+  const Mat3 R_predicted_prev = T_predicted_world.R() * prev.T_world_camera.R();
+  std::vector<cv::Point2f> uv;
+  uv.reserve(features_.features().size());
+  for (const Feature& f : features_.features()) {
+    // A map point where the predicted pose projects it; a feature without one turned by the
+    // predicted rotation (its depth unknown: right for distant points and for turns).
+    Vec3 p_camera(0, 0, -1);
+    if (const auto p = mapPosition(f.id)) {
+      p_camera = T_predicted_world * *p;
+    } else if (const auto it = prev.xy_normalised.find(f.id); it != prev.xy_normalised.end()) {
+      p_camera = R_predicted_prev * it->second.homogeneous();
+    }
+    Vec2 q(f.uv.x, f.uv.y);
+    if (p_camera.z() > 1e-3) {
+      const Vec2 projected = camera_->project(p_camera);
+      if (camera_->inImage(projected, -50)) q = projected;
+    }
+    uv.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
+  }
+  return uv;
 }
 
 std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std::string* failure,
@@ -274,7 +432,7 @@ std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std:
   std::vector<double> ratios;
   for (size_t k = 0; k < common.size(); ++k) {
     if (!motion.inliers[k]) continue;
-    const auto p = map_->position(features[common[k]].id);
+    const auto p = mapPosition(features[common[k]].id);
     if (!p) continue;
     const Ray ray_ref{Vec3::Zero(), xy_ref[k].homogeneous().normalized()};
     const Ray ray_cur = rayFromObservation(T_ref_cur_unit, xy_cur[k]);
@@ -322,17 +480,24 @@ FrameResult CslamTracker::track(const Frame& frame) {
 
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
+  // The motion model's pose for this frame (from the last posed frames).
+  T_world_predicted_ = motionPrediction(frame.index);
+  const std::optional<SE3>& T_world_predicted = T_world_predicted_;
 
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
   std::optional<BoardView> board;
-  if (use_board && (board = boardPoseInFrame(frame.grey, &result))) {
+  if (use_board && (board = boardPoseInFrame(frame.grey, T_world_predicted, &result))) {
     T_world_camera = board->T_world_camera;
     result.status = TrackStatus::Tracked;
     result.source = "board";
   }
 
-  if (!pyramid_prev_.empty()) features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels);
+  if (!pyramid_prev_.empty()) {
+    std::vector<cv::Point2f> predicted;
+    if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
+    features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
+  }
   std::vector<Vec2> xy = featuresNormalised();
 
   if (!T_world_camera) {
@@ -347,12 +512,13 @@ FrameResult CslamTracker::track(const Frame& frame) {
   }
   if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
   if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
-    T_world_camera = fuseBoardAndMap(*board, xy, &result);
+    T_world_camera = fuseBoardAndMap(*board, xy, frame.index, &result);
   } else {
     fusion_.reset();
   }
 
   if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
+  const bool keyframe = T_world_camera && window_ && prepareKeyframe(frame, *T_world_camera, board ? &*board : nullptr);
   features_.replenish(frame.grey);
   if (T_world_camera) {
     xy = featuresNormalised();
@@ -362,6 +528,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
       map_->addObservation(id, *T_world_camera, xy[i]);
       posed.xy_normalised.emplace(id, xy[i]);
     }
+    if (keyframe) T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board ? &*board : nullptr, xy, &result);
     history_.push_back(std::move(posed));
     while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
     if (mode_ == Mode::TwoView && two_view_board_phase_ &&
@@ -382,11 +549,61 @@ FrameResult CslamTracker::track(const Frame& frame) {
   return result;
 }
 
-CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy) const {
+bool CslamTracker::prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board) {
+  std::vector<int> ids;
+  int tracked_map_points = 0;
+  for (const Feature& f : features_.features()) {
+    ids.push_back(f.id);
+    tracked_map_points += window_->position(f.id).has_value();
+  }
+  std::sort(ids.begin(), ids.end());
+  if (!window_->wantsKeyframe(frame.index, T_world_camera, ids, board ? static_cast<int>(board->ids.size()) : 0))
+    return false;
+  // Few map points tracked (the board back after a gap, the camera turned back): those no longer
+  // tracked are looked for where the pose projects them.
+  if (options_.map_search.enabled && tracked_map_points < options_.map_search.below_map_points)
+    features_.add(searchMapPoints(frame.grey, *camera_, T_world_camera, window_->untrackedPoints(ids),
+                                  features_.features(), options_.features.min_distance_px, options_.map_search));
+  return true;
+}
+
+SE3 CslamTracker::addKeyframe(const Frame& frame, const PosedFrame& posed, const BoardView* board,
+                              const std::vector<Vec2>& xy, FrameResult* result) {
+  Keyframe keyframe;
+  keyframe.frame_index = frame.index;
+  keyframe.timestamp = frame.timestamp;
+  keyframe.T_world_camera = posed.T_world_camera;
+  keyframe.features = posed.xy_normalised;
+  if (board) {
+    keyframe.board_ids = board->ids;
+    keyframe.board_xy = board->xy;
+    keyframe.T_world_board = board->T_world_camera;
+  }
+  const KeyframeWindow::Added added = window_->add(std::move(keyframe));
+  for (const Feature& f : features_.features())
+    if (window_->position(f.id)) window_->setPatch(f.id, mapPointPatch(frame.grey, f.uv));
+  if (added.reanchored) {
+    // The board is back and the map re-anchored to it: this frame's pose from both, and the
+    // fusion starts again from there.
+    result->reason = "board back: the gap's keyframes and map points re-anchored";
+    if (const auto joint = boardAndMapPose(*board, xy)) {
+      if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
+      return joint->T_camera_world.inverse();
+    }
+  }
+  // Without the board the window's refinement is the best pose; with it, the board fused with
+  // the motion stands (the window refines the map around it).
+  return board ? posed.T_world_camera : added.T_world_camera;
+}
+
+CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<Vec2>& xy,
+                                                            bool barely_triangulated) const {
   MapCorrespondences m;
   const auto& features = features_.features();
   for (size_t i = 0; i < features.size(); ++i) {
-    if (const auto p = map_->position(features[i].id)) {
+    const auto p = barely_triangulated ? (mapPosition(features[i].id) ? std::nullopt : window_->position(features[i].id, true))
+                                       : mapPosition(features[i].id);
+    if (p) {
       m.p_world.push_back(*p);
       m.xy_normalised.push_back(xy[i]);
     }

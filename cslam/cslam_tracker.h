@@ -4,12 +4,16 @@
 // across the whole image and triangulated into the map from every posed frame.
 //
 // Modes: "calibration" (board only; frames without it are lost), "two_view" (the board only until
-// the map is built, then two-view motion), "combined" (default: board when seen, fused with the
-// features' frame-to-frame motion; two-view otherwise). A two-view motion is never chained
-// blindly: it and the motion-predicted pose are both refined on the map's points and the better
-// fit stands (a planar scene, a tiny baseline or a pure rotation leave the essential matrix
-// degenerate; the map then poses the frame). Without a camera the first frames gather board views
-// for self-calibration (status initialising).
+// the map is built, then two-view motion chained from frame to frame, as the thesis),
+// "combined" (default: board when seen, fused with the features' frame-to-frame motion; two-view
+// otherwise, on a map refined over a sliding window of keyframes by bundle adjustment, with the
+// board's corners as known points while it is seen and the gap re-anchored when it returns:
+// cslam/keyframe_window.h). A two-view motion is never chained blindly: it and the
+// motion-predicted pose are both refined on the map's points and the better fit stands (a planar
+// scene, a tiny baseline or a pure rotation leave the essential matrix degenerate; the map then
+// poses the frame). A board partly out of the image poses the frame from the corners that remain;
+// the board is re-acquired where the predicted pose projects it. Without a camera the first
+// frames gather board views for self-calibration (status initialising).
 #include <deque>
 #include <memory>
 #include <optional>
@@ -22,6 +26,7 @@
 #include "tracking/board_corner_tracker.h"
 #include "cslam/board_odometry_fusion.h"
 #include "cslam/feature_map.h"
+#include "cslam/keyframe_window.h"
 #include "tracking/feature_tracker.h"
 #include "geometry/homography_pose.h"
 #include "core/self_calibration.h"
@@ -44,6 +49,8 @@ struct CslamOptions {
   PoseRefinementOptions map_refinement{10, 2.0};  // poses refined on the map's points (two-view, fusion)
   double max_map_error_px = 2.0;  // a two-view pose whose median map reprojection error exceeds this is lost
   FeatureMapOptions map;
+  KeyframeWindowOptions refinement;
+  MapPointSearchOptions map_search;
   BoardOdometryFusionOptions fusion;
   int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
   SelfCalibrationOptions calibration;
@@ -63,7 +70,14 @@ struct CslamOptions {
     v("map_refinement", map_refinement, "refinement of a pose on the map's points (two-view motion, fusion)");
     v("max_map_error_px", max_map_error_px,
       "a two-view pose whose median reprojection error of map points exceeds this is lost, pixels");
-    v("map", map, "triangulation of the features (thesis Algorithm 3.1)");
+    v("map", map,
+      "triangulation of the features from every posed frame (thesis Algorithm 3.1): the map of calibration and "
+      "two_view modes, the fusion's frame-to-frame motion in combined mode");
+    v("refinement", refinement,
+      "combined mode: the map from keyframes refined over a sliding window by bundle adjustment, re-anchored "
+      "when the board returns");
+    v("map_search", map_search,
+      "combined mode: map points no longer tracked looked for where the pose projects them (at keyframes)");
     v("fusion", fusion, "combined mode: each board pose fused with the features' frame-to-frame motion");
     v("two_view_init_map_points", two_view_init_map_points,
       "two_view mode: the board sets the world frame and scale until the map holds this many points");
@@ -100,24 +114,52 @@ class CslamTracker : public Tracker {
     std::unordered_map<int, Vec2> xy_normalised;  // feature id -> undistorted normalised coordinates
   };
 
+  void makeMap();  // once the camera is known: the thesis's map, and in combined mode the refined one
   bool gatherCalibrationViews(const Frame& frame, FrameResult* result);
   struct BoardView {
     SE3 T_world_camera;            // from the board alone
+    std::vector<int> ids;          // the corners seen (all of them, or the part in the image)
     std::vector<cv::Point2f> uv;   // corners, distorted pixels
     std::vector<Vec2> xy;          // corners, undistorted normalised
+    std::vector<Vec3> p_world;     // corners, world frame
     double rms_px = 0;             // reprojection error of the board pose
   };
-  std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, FrameResult* result);
-  BoardView boardView(std::vector<cv::Point2f> uv) const;  // the pose from the corners
+  // T_world_predicted: this frame's pose as the motion predicts it (tracking starts there; a lost
+  // board is searched for where it puts it).
+  std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, const std::optional<SE3>& T_world_predicted,
+                                            FrameResult* result);
+  BoardView boardView(BoardCorners corners) const;  // the pose from the corners
   // The frames that gathered calibration views, posed now that the camera is known.
   std::vector<LatePose> posesOfGatheringFrames();
-  // Combined mode: the board pose fused with the features' motion (xy: the features' coordinates).
-  SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, FrameResult* result);
+  // Combined mode: the board pose fused with the features' motion from the previous frame (xy:
+  // the features' coordinates).
+  SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index, FrameResult* result);
+  // The pose from the board's corners and the refined map's points together (weighted by their
+  // standard deviations), with its covariance; empty with too few map points.
+  std::optional<PoseWithCovariance> boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy) const;
+  // The pose fitted to map points seen at xy_normalised, refined from T_world_start, with its
+  // covariance.
+  PoseWithCovariance mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
+                             const std::vector<Vec2>& xy_normalised) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
+  // Combined mode's refined map: whether this posed frame becomes a keyframe (if so, map points no
+  // longer tracked are looked for first, while few are tracked).
+  bool prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board);
+  // Adds the keyframe (the features after replenishing: posed, xy) and refines the window; returns
+  // the frame's pose: the refined one without the board, the board's and the re-anchored map's
+  // when the board ends a gap, else posed's.
+  SE3 addKeyframe(const Frame& frame, const PosedFrame& posed, const BoardView* board, const std::vector<Vec2>& xy,
+                  FrameResult* result);
   // The thesis's two-view pose (essential matrix from the reference frame, scale from the map),
   // or empty with *failure saying why.
   std::optional<SE3> essentialPose(const std::vector<Vec2>& xy, std::string* failure, FrameResult* result);
-  SE3 predictedPose() const;  // from the last posed frames, for the map refinement to start from
+  SE3 predictedPose() const;  // this frame's motion prediction, else the last posed frame's pose
+  // Constant velocity from the last two posed frames, over frames lost since (a few at most).
+  std::optional<SE3> motionPrediction(int frame_index) const;
+  // Where the features of the previous (posed) frame should be now if the camera is at
+  // T_world_predicted: map points projected, the others turned by the predicted rotation.
+  std::vector<cv::Point2f> predictedFeatures(const SE3& T_world_predicted) const;
+  std::optional<Vec3> mapPosition(int feature_id) const;  // the refined map's in combined mode
   // Drops the features (and their entries of *xy) off their epipolar line from the last posed frame.
   void dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy);
   std::vector<Vec2> featuresNormalised() const;
@@ -127,7 +169,9 @@ class CslamTracker : public Tracker {
     std::vector<Vec3> p_world;
     std::vector<Vec2> xy_normalised;
   };
-  MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy) const;
+  // barely_triangulated: instead, the refined map's features placed with too little parallax to
+  // be map points.
+  MapCorrespondences mapPointsSeen(const std::vector<Vec2>& xy, bool barely_triangulated = false) const;
   FrameOverlay overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const;
 
   std::optional<CameraModel> camera_;
@@ -143,7 +187,8 @@ class CslamTracker : public Tracker {
   BoardCornerTracker board_;
   FeatureTracker features_;
   BoardOdometryFusion fusion_;
-  std::unique_ptr<FeatureMap> map_;
+  std::unique_ptr<FeatureMap> map_;        // the thesis's map (in combined mode, for the fusion's motion)
+  std::unique_ptr<KeyframeWindow> window_;  // combined mode's refined map
   std::unique_ptr<SelfCalibrator> calibrator_;
   int calibration_frames_ = 0;
   struct GatheredCorners {
@@ -155,6 +200,7 @@ class CslamTracker : public Tracker {
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;
   std::optional<SE3> last_pose_;    // the previous frame's, if it had one
+  std::optional<SE3> T_world_predicted_;  // this frame's, by the motion model
   std::deque<PosedFrame> history_;  // the last posed frames, oldest first
   bool two_view_board_phase_ = true;
   int posed_frames_ = 0;

@@ -2,8 +2,14 @@
 // The chessboard's inner corners in every frame: the previous frame's corners tracked by pyramidal
 // Lucas-Kanade and confirmed (sub-pixel re-refinement, a homography consistent with the grid on
 // the undistorted corners, the square colours), with core's full search as the fallback. A full
-// search costs 100 to 200 ms on a frame without the board, tracking well under a millisecond.
+// search costs 100 to 600 ms on a frame without the board, tracking well under a millisecond.
+//
+// findCorners() also follows a board that is partly out of the image (the corners that remain,
+// their identities known from tracking; the missing ones return as they re-enter the image) and
+// re-acquires a board where a predicted camera pose projects it (the predicted corners aligned and
+// refined), so the expensive full search is needed only when there is no pose to predict from.
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -24,33 +30,64 @@ struct BoardCornerTrackerOptions {
   }();
   bool track = true;                   // track last frame's corners before any full search
   double max_grid_error_px = 1.0;      // confirm: RMS homography error of the undistorted corners
+  double max_corner_error_px = 0.3;    // findCorners: a corner the homography misses by more is dropped
   double max_refine_shift_px = 2.0;    // confirm: sub-pixel refinement moves no corner further
   int search_interval_when_lost = 3;   // after a miss, full search only every this many frames
   double search_margin_px = 20;        // full search only if the last pose puts the board this far inside
+  // findCorners only: a board partly out of the image is kept while this many corners remain
+  // (their identities from tracking); 0 = the whole board only.
+  int min_partial_corners = 8;
+  bool predicted_search = true;        // findCorners: re-acquire where a predicted pose projects the board
+  double max_prediction_error_px = 10; // the predicted corners are aligned within this radius first
+  double min_square_contrast = 10;     // grey levels between the white and the black squares
   template <class V>
   void visit(V& v) {
     v("detector", detector, "the full search (core chessboard detector)");
     v("track", track, "track last frame's corners by Lucas-Kanade before any full search");
     v("max_grid_error_px", max_grid_error_px,
       "tracked corners are accepted when a homography fits the undistorted grid to this RMS, pixels");
+    v("max_corner_error_px", max_corner_error_px,
+      "findCorners: a corner the grid's homography (a robust fit) misses by more than this (and by 3 times the "
+      "median corner) is dropped, pixels (the edge of something hiding part of the board pulls the refinement off)");
     v("max_refine_shift_px", max_refine_shift_px,
-      "tracked corners are rejected when sub-pixel refinement moves one further than this, pixels");
+      "a tracked or predicted corner that sub-pixel refinement moves further than this is dropped, pixels");
     v("search_interval_when_lost", search_interval_when_lost,
-      "while the board is not seen, the full search runs every this many frames (1 = every frame)");
+      "while the board is not seen and no pose predicts it, the full search runs every this many frames (1 = "
+      "every frame)");
     v("search_margin_px", search_margin_px,
       "the full search is skipped while the last pose puts an outer corner of the board closer than this "
       "to the image border, pixels (a search on a frame with part of the board costs up to seconds)");
+    v("min_partial_corners", min_partial_corners,
+      "a board partly out of the image is used while at least this many of its corners are tracked (0: only "
+      "the whole board)");
+    v("predicted_search", predicted_search,
+      "re-acquire the board at the corners a predicted camera pose projects (aligned, refined, confirmed) before "
+      "any full search");
+    v("max_prediction_error_px", max_prediction_error_px,
+      "predicted corners are first aligned to the strongest corner response within this radius, pixels");
+    v("min_square_contrast", min_square_contrast,
+      "confirm: the white squares must be this much brighter than the black ones, grey levels");
   }
   void check() const;
 };
+
+// The corners of a board found in one frame: some or all of them.
+struct BoardCorners {
+  std::vector<int> ids;          // corner indices j * cols + i (SPEC section 2), ascending
+  std::vector<cv::Point2f> uv;   // distorted pixels; uv[k] is corner ids[k]
+  bool complete = false;         // every corner of the board
+};
+
+// How findCorners found the board.
+enum class BoardFound { None, Tracked, Predicted, Searched };
 
 class BoardCornerTracker {
  public:
   BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options);
 
-  // Corners (distorted pixels, SPEC section 2 order) in the current frame, or empty. With a
-  // camera and the previous frame's pyramid the corners are tracked first. `pyramid_*` come from
-  // cv::buildOpticalFlowPyramid with the given window and levels.
+  // Corners (distorted pixels, SPEC section 2 order) in the current frame, or empty; the whole
+  // board only. With a camera and the previous frame's pyramid the corners are tracked first.
+  // `pyramid_*` come from cv::buildOpticalFlowPyramid with the given window and levels.
   // allow_search = false skips the full search (e.g. the pose says the board is out of view).
   // A symmetric board found by the full search takes the origin nearest where T_world_camera_last
   // (the last posed frame's) puts its corners, else nearest the last corners seen
@@ -59,19 +96,57 @@ class BoardCornerTracker {
                                                const std::vector<cv::Mat>& pyramid, cv::Size lk_window,
                                                int lk_levels, const CameraModel* camera, bool allow_search = true,
                                                const SE3* T_world_camera_last = nullptr);
+
+  // As find, with partial boards (min_partial_corners) and the predicted search: the corners
+  // tracked from the last frame (starting where T_world_camera_predicted projects them, when
+  // given), then the corners T_world_camera_predicted projects into the image, then (allow_search,
+  // at most every search_interval_when_lost frames) the full search.
+  std::optional<BoardCorners> findCorners(const cv::Mat& grey, const std::vector<cv::Mat>& pyramid_prev,
+                                          const std::vector<cv::Mat>& pyramid, cv::Size lk_window, int lk_levels,
+                                          const CameraModel& camera, const SE3* T_world_camera_predicted,
+                                          bool allow_search);
+
   bool lastWasTracked() const { return last_tracked_; }
+  BoardFound lastFound() const { return last_found_; }
   // Forget the last corners (the next call searches).
-  void reset() { corners_.clear(); }
+  void reset() { corners_ = {}; }
 
  private:
   bool confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv, const CameraModel& camera) const;
+  // Refines `corners` (started at `start`), drops those the refinement moves too far, and checks
+  // the rest: enough of them, a plane seen through the lens, the squares' colours.
+  bool confirmCorners(const cv::Mat& grey, BoardCorners* corners, const CameraModel& camera) const;
+  // The corners of `corners` plus those their homography puts inside the image.
+  BoardCorners withReenteringCorners(const BoardCorners& corners, const CameraModel& camera) const;
+  // The corners `T_world_camera` projects inside the image, aligned on the strongest corner
+  // responses nearby; empty if too few.
+  std::optional<BoardCorners> predictedCorners(const cv::Mat& grey, const CameraModel& camera,
+                                               const SE3& T_world_camera) const;
+  std::optional<BoardCorners> fullSearch(const cv::Mat& grey, const CameraModel* camera, const SE3* T_world_camera);
+  // Whether the four squares around the corner at grid coordinates `grid` show their colours near
+  // it (H: grid to undistorted pixels).
+  bool squaresClear(const cv::Mat& grey, const CameraModel& camera, const Mat3& H, const Vec2& grid) const;
+  // Mean grey levels (black, white) of the squares between `corners`, as SPEC section 2 (and
+  // parity_) number them; empty without a square of each colour.
+  std::optional<std::pair<double, double>> squareMeans(const cv::Mat& grey, const BoardCorners& corners) const;
+  double squareContrast(const cv::Mat& grey, const BoardCorners& corners) const;  // white - black
+  // Whether the squares stop beyond those of `corners` on the board's edges (H: grid to
+  // undistorted pixels): false for a board slipped by two squares.
+  bool endsAtItsEdges(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
+                      const BoardCorners& corners) const;
+  int minCorners() const;
+  double refineMarginPx(const BoardCorners& corners) const;
 
   ChessboardTarget target_;
   BoardCornerTrackerOptions options_;
-  std::vector<cv::Point2f> corners_;  // last frame's, empty if not seen
-  std::vector<cv::Point2f> last_seen_;  // the last corners found in any frame, empty if none yet
+  BoardCorners corners_;                // last frame's, empty if not seen
+  std::vector<cv::Point2f> last_seen_;  // the last whole board found in any frame, empty if none yet
+  // +1, or for a symmetric board whose origin continuity chose the other way round, -1: the sign
+  // of the white-minus-black contrast the corner numbering gives.
+  double parity_ = 1.0;
   int frames_until_search_ = 0;  // frames to skip before the next full search
   bool last_tracked_ = false;
+  BoardFound last_found_ = BoardFound::None;
 };
 
 }  // namespace slamcmp

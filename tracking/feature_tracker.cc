@@ -23,7 +23,7 @@ void FeatureTrackerOptions::check() const {
 FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(options) {}
 
 void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::vector<cv::Mat>& pyramid,
-                           cv::Size lk_window, int lk_levels) {
+                           cv::Size lk_window, int lk_levels, const std::vector<cv::Point2f>* predicted_uv) {
   dropped_.clear();
   ended_.clear();
   if (features_.empty()) return;
@@ -33,7 +33,12 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
   std::vector<uchar> status, status_back;
   std::vector<float> error;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.03);
-  cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, error, lk_window, lk_levels, criteria);
+  int flags = 0;
+  if (predicted_uv && predicted_uv->size() == features_.size()) {
+    next = *predicted_uv;
+    flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+  }
+  cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, error, lk_window, lk_levels, criteria, flags);
   // Backward from the tracked position, started at the original one over one pyramid level (as
   // VINS-Mono does): a consistent track returns within a fraction of a pixel, at a quarter of the
   // forward cost.
@@ -74,6 +79,10 @@ void FeatureTracker::keepOnly(const std::vector<char>& keep) {
     }
   }
   features_ = std::move(kept);
+}
+
+void FeatureTracker::add(const std::vector<Feature>& found) {
+  features_.insert(features_.end(), found.begin(), found.end());
 }
 
 int FeatureTracker::replenish(const cv::Mat& grey) {

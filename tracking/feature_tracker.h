@@ -40,11 +40,16 @@ class FeatureTracker {
   explicit FeatureTracker(const FeatureTrackerOptions& options);
 
   // Moves the features from the previous pyramid to the current one; features failing LK, the
-  // forward-backward check or the border are dropped.
+  // forward-backward check or the border are dropped. predicted_uv (one per features(), distorted
+  // pixels, e.g. from a motion model) starts Lucas-Kanade there instead of at the old positions:
+  // motions beyond the pyramid's reach (a fast turn) are then still tracked.
   void track(const std::vector<cv::Mat>& pyramid_prev, const std::vector<cv::Mat>& pyramid,
-             cv::Size lk_window, int lk_levels);
+             cv::Size lk_window, int lk_levels, const std::vector<cv::Point2f>* predicted_uv = nullptr);
   // Drops the features whose id is flagged (e.g. epipolar outliers): keep[i] for features()[i].
   void keepOnly(const std::vector<char>& keep);
+  // Adds features the caller found again (e.g. map points matched where the camera pose projects
+  // them), with their old ids.
+  void add(const std::vector<Feature>& found);
   // Detects new features away from the existing ones when fewer than min_features are held.
   // Returns the number added.
   int replenish(const cv::Mat& grey);

@@ -24,7 +24,7 @@ TEST(BoardOdometryFusion, AveragesBoardNoiseAndFollowsAJump) {
   std::normal_distribution<double> noise(0, 1);
   const double sigma_t = 0.002, sigma_r = 0.002;  // metres, radians
   const SE3 map_error(rotationFromRotvec(Vec3(0.01, 0, 0)), Vec3(0.01, 0.02, 0));
-  PoseWithCovariance board, map;
+  PoseWithCovariance board, map, map_prev;
   board.covariance = Mat6::Zero();
   board.covariance.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec3::Constant(sigma_t * sigma_t);
   map.covariance = 1e-4 * board.covariance;
@@ -38,7 +38,8 @@ TEST(BoardOdometryFusion, AveragesBoardNoiseAndFollowsAJump) {
         sigma_t * noise(rng), sigma_t * noise(rng);
     board.T_camera_world = applyPoseDelta(T_camera_world, d);
     map.T_camera_world = map_error * T_camera_world;
-    const SE3 fused = fusion.update(board, map);
+    const SE3 fused = fusion.update(board, k ? std::optional<MapMotion>(MapMotion{map_prev, map}) : std::nullopt);
+    map_prev = map;
     if (k < 20) continue;  // the filter settling
     board_sum += (board.T_camera_world.t() - T_camera_world.t()).squaredNorm();
     fused_sum += (fused.t() - T_camera_world.t()).squaredNorm();
@@ -47,7 +48,7 @@ TEST(BoardOdometryFusion, AveragesBoardNoiseAndFollowsAJump) {
   // A board pose 10 cm off (e.g. after missed frames): the filter follows the board to within
   // half its noise (measured: a fifth).
   board.T_camera_world = SE3(Mat3::Identity(), Vec3(0.1, 0, 0.7));
-  const SE3 jumped = fusion.update(board, map);
+  const SE3 jumped = fusion.update(board, MapMotion{map_prev, map});
   EXPECT_LT((jumped.t() - board.T_camera_world.t()).norm(), 0.5 * sigma_t);
 }
 
