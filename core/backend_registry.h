@@ -63,6 +63,8 @@ struct BackendRegistration {
   std::string summary;             // one line for --help
   std::vector<BackendMode> modes;  // the first is the default
   bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE)
+  // The stage names its frames' CPU times use (summary.json `stages`), in the order a frame runs them.
+  std::vector<std::string> stages;
   std::function<std::unique_ptr<BackendOptions>()> default_options;
   // context.mode is one of `modes`; options are checked. Throws InputError for a context the
   // back-end cannot work with (no camera, no target, ...).

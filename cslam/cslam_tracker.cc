@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "core/options.h"
+#include "core/stage_timer.h"
 #include "core/statistics.h"
 #include "geometry/bundle_adjustment.h"
 #include "geometry/essential_eight_point.h"
@@ -479,7 +480,10 @@ FrameResult CslamTracker::track(const Frame& frame) {
   if (!camera_ && !gatherCalibrationViews(frame, &result)) return result;
 
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
-  cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
+  {
+    const StageTimer timer(&result.stages, "pyramid");
+    cv::buildOpticalFlowPyramid(frame.grey, pyramid_, window, options_.lk_levels);
+  }
   // The motion model's pose for this frame (from the last posed frames).
   T_world_predicted_ = motionPrediction(frame.index);
   const std::optional<SE3>& T_world_predicted = T_world_predicted_;
@@ -487,55 +491,69 @@ FrameResult CslamTracker::track(const Frame& frame) {
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
   std::optional<BoardView> board;
-  if (use_board && (board = boardPoseInFrame(frame.grey, T_world_predicted, &result))) {
-    T_world_camera = board->T_world_camera;
-    result.status = TrackStatus::Tracked;
-    result.source = "board";
-  }
-
-  if (!pyramid_prev_.empty()) {
-    std::vector<cv::Point2f> predicted;
-    if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
-    features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
-  }
-  std::vector<Vec2> xy = featuresNormalised();
-
-  if (!T_world_camera) {
-    if (mode_ == Mode::Calibration) {
-      result.reason = "no board";
-    } else if (history_.empty()) {
-      result.reason = "no board yet: the world frame is not set";
-    } else if ((T_world_camera = twoViewPose(xy, &result))) {
+  if (use_board) {
+    const StageTimer timer(&result.stages, "board");
+    if ((board = boardPoseInFrame(frame.grey, T_world_predicted, &result))) {
+      T_world_camera = board->T_world_camera;
       result.status = TrackStatus::Tracked;
-      result.source = "two_view";
+      result.source = "board";
     }
   }
-  if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
-  if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
-    T_world_camera = fuseBoardAndMap(*board, xy, frame.index, &result);
-  } else {
-    fusion_.reset();
+
+  std::vector<Vec2> xy;
+  {
+    const StageTimer timer(&result.stages, "features");
+    if (!pyramid_prev_.empty()) {
+      std::vector<cv::Point2f> predicted;
+      if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
+      features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
+    }
+    xy = featuresNormalised();
+  }
+
+  {
+    const StageTimer timer(&result.stages, "motion");
+    if (!T_world_camera) {
+      if (mode_ == Mode::Calibration) {
+        result.reason = "no board";
+      } else if (history_.empty()) {
+        result.reason = "no board yet: the world frame is not set";
+      } else if ((T_world_camera = twoViewPose(xy, &result))) {
+        result.status = TrackStatus::Tracked;
+        result.source = "two_view";
+      }
+    }
+    if (T_world_camera) dropEpipolarOutliers(*T_world_camera, &xy);
+    if (board && mode_ == Mode::Combined && options_.fusion.enabled) {
+      T_world_camera = fuseBoardAndMap(*board, xy, frame.index, &result);
+    } else {
+      fusion_.reset();
+    }
   }
 
   if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
-  const bool keyframe = T_world_camera && window_ && prepareKeyframe(frame, *T_world_camera, board ? &*board : nullptr);
-  features_.replenish(frame.grey);
-  if (T_world_camera) {
-    xy = featuresNormalised();
-    PosedFrame posed{frame.index, *T_world_camera, {}};
-    for (size_t i = 0; i < xy.size(); ++i) {
-      const int id = features_.features()[i].id;
-      map_->addObservation(id, *T_world_camera, xy[i]);
-      posed.xy_normalised.emplace(id, xy[i]);
+  {
+    const StageTimer timer(&result.stages, "map");
+    const BoardView* board_seen = board ? &*board : nullptr;
+    const bool keyframe = T_world_camera && window_ && prepareKeyframe(frame, *T_world_camera, board_seen);
+    features_.replenish(frame.grey);
+    if (T_world_camera) {
+      xy = featuresNormalised();
+      PosedFrame posed{frame.index, *T_world_camera, {}};
+      for (size_t i = 0; i < xy.size(); ++i) {
+        const int id = features_.features()[i].id;
+        map_->addObservation(id, *T_world_camera, xy[i]);
+        posed.xy_normalised.emplace(id, xy[i]);
+      }
+      if (keyframe) T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board_seen, xy, &result);
+      history_.push_back(std::move(posed));
+      while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
+      if (mode_ == Mode::TwoView && two_view_board_phase_ &&
+          static_cast<int>(mapPointsSeen(xy).p_world.size()) >= options_.two_view_init_map_points)
+        two_view_board_phase_ = false;
+      result.T_world_camera = T_world_camera;
+      ++posed_frames_;
     }
-    if (keyframe) T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board ? &*board : nullptr, xy, &result);
-    history_.push_back(std::move(posed));
-    while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
-    if (mode_ == Mode::TwoView && two_view_board_phase_ &&
-        static_cast<int>(mapPointsSeen(xy).p_world.size()) >= options_.two_view_init_map_points)
-      two_view_board_phase_ = false;
-    result.T_world_camera = T_world_camera;
-    ++posed_frames_;
   }
   last_pose_ = T_world_camera;
   if (!T_world_camera) {
@@ -612,7 +630,7 @@ CslamTracker::MapCorrespondences CslamTracker::mapPointsSeen(const std::vector<V
 }
 
 BackendRegistration cslamBackend() {
-  return makeRegistration<CslamOptions>(
+  BackendRegistration r = makeRegistration<CslamOptions>(
       "cslam", "calibration integrated SLAM (thesis ch. 3): board pose, LK features, two-view motion, map",
       {{"combined", "cslam (combined)", "#1f77b4", "CSLAM with two-view"},
        {"calibration", "cslam calibration", "#d62728", "CSLAM without two-view"},
@@ -626,6 +644,8 @@ BackendRegistration cslamBackend() {
         return std::make_unique<CslamTracker>(context.camera, *context.target, size, context.mode, options,
                                               context.want_overlay);
       });
+  r.stages = {"pyramid", "board", "features", "motion", "map"};
+  return r;
 }
 
 }  // namespace slamcmp

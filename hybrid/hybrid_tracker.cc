@@ -236,12 +236,14 @@ std::vector<MapPoint> HybridTracker::mapPoints() const {
 }
 
 BackendRegistration hybridBackend() {
-  return makeRegistration<HybridOptions>(
+  BackendRegistration r = makeRegistration<HybridOptions>(
       "hybrid", "MonoSLAM's EKF with every board corner a known landmark: re-anchored whenever the board is seen",
       {{"ekf", "hybrid", "#9467bd"}}, /*takes_init=*/false,
       [](const TrackerContext& context, const HybridOptions& options) {
         return std::make_unique<HybridTracker>(context, options);
       });
+  r.stages = {"predict", "board", "features", "map"};
+  return r;
 }
 
 }  // namespace slamcmp

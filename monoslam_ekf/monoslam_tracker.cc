@@ -178,12 +178,14 @@ std::vector<MapPoint> MonoslamTracker::mapPoints() const {
 }
 
 BackendRegistration monoslamBackend() {
-  return makeRegistration<MonoslamOptions>(
+  BackendRegistration r = makeRegistration<MonoslamOptions>(
       "monoslam", "the MonoSLAM baseline (Davison 2007, SceneLib defaults): EKF, particle depths, 11x11 patches",
       {{"ekf", "monoslam", "#000000", "MonoSLAM"}}, /*takes_init=*/true,
       [](const TrackerContext& context, const MonoslamOptions& options) {
         return std::make_unique<MonoslamTracker>(context, options);
       });
+  r.stages = {"predict", "features", "map"};
+  return r;
 }
 
 }  // namespace slamcmp

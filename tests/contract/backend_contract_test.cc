@@ -121,7 +121,8 @@ TEST_P(BackendContract, FrameWithoutBoardHasAReasonAndNoPose) {
 }
 
 // Over a run that sees the board, loses it (blank frames) and sees it again, every result keeps
-// the invariants: a pose exactly when tracked, a known source then, and a reason otherwise.
+// the invariants: a pose exactly when tracked, a known source then, and a reason otherwise; the
+// stages it times are the ones its registration names.
 TEST_P(BackendRunContract, StatusPoseAndReasonAgreeOnEveryFrame) {
   const auto tracker = makeTracker();
   Sequence seq = openSequence(sequencePath());
@@ -131,6 +132,9 @@ TEST_P(BackendRunContract, StatusPoseAndReasonAgreeOnEveryFrame) {
   std::vector<Frame> frames;
   for (Frame f; seq.frames->next(&f);) frames.push_back(f);
   ASSERT_EQ(static_cast<int>(frames.size()), kFrames);
+  const std::set<std::string> vocabulary(backend().stages.begin(), backend().stages.end());
+  ASSERT_FALSE(vocabulary.empty()) << "the registration names no stages";
+  std::set<std::string> stages_seen;
   int tracked = 0;
   for (int i = 0; i < kFrames; ++i) {
     Frame frame = (i >= 8 && i < 12) ? blankFrame(i) : frames[i];
@@ -145,12 +149,18 @@ TEST_P(BackendRunContract, StatusPoseAndReasonAgreeOnEveryFrame) {
     } else {
       EXPECT_FALSE(r.reason.empty()) << at;
     }
+    for (const auto& [stage, cpu_ms] : r.stages) {
+      EXPECT_TRUE(vocabulary.count(stage)) << at << ": stage '" << stage << "' is not in the registration's";
+      EXPECT_TRUE(std::isfinite(cpu_ms) && cpu_ms >= 0) << at << ": " << stage << " " << cpu_ms;
+      stages_seen.insert(stage);
+    }
     for (const LatePose& late : r.late_poses) {
       EXPECT_LT(late.frame_index, i) << at;
       EXPECT_TRUE(late.T_world_camera.isFinite()) << at;
     }
   }
   EXPECT_GT(tracked, 0);
+  EXPECT_EQ(stages_seen, vocabulary) << "every stage the registration names is timed in a run";
 }
 
 // A run of blank frames only never saw the board: finish() refuses it (the command line then
