@@ -24,6 +24,8 @@ Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
   Mat3 Hn;
   Hn << h(0), h(1), h(2), h(3), h(4), h(5), h(6), h(7), h(8);
   Mat3 H = Td.inverse() * Hn * Ts;
+  // The SVD's sign is arbitrary; the points seen are all on one side of the plane's horizon.
+  if ((H * src.front().homogeneous()).z() < 0) H = -H;
   return H / H.norm();
 }
 

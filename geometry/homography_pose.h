@@ -12,7 +12,8 @@
 namespace slamcmp {
 
 // Normalised DLT (Hartley): H maps src to dst, dst ~ H (src, 1). Needs >= 4 points, not all on a
-// line. H is scaled to unit Frobenius norm.
+// line. H is scaled to unit Frobenius norm, its sign such that H (src, 1) has a positive third
+// coordinate (a point beyond the plane's horizon, then, has a negative one).
 Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst);
 
 // Transfer error |dst - H src| per point, in the units of dst.

@@ -28,10 +28,10 @@ void BoardCornerTrackerOptions::check() const {
 namespace {
 
 // Mean grey level of the 3x3 pixels at grid coordinates `grid` (H maps the grid to undistorted
-// pixels; its sign is arbitrary, as a DLT's), or -1 outside the image.
+// pixels, its sign as homographyDlt's), or -1 outside the image.
 double sampleGrid(const cv::Mat& grey, const CameraModel& camera, const Mat3& H, const Vec2& grid) {
   const Vec3 u = H * grid.homogeneous();
-  if (!(std::abs(u.z()) > 1e-12)) return -1;
+  if (!(u.z() > 0)) return -1;  // beyond the plane's horizon
   const Vec2 uv = camera.project(camera.normalisedFromPixel(u.hnormalized()).homogeneous());
   if (!uv.allFinite() || !camera.inImage(uv, 2)) return -1;
   const int x = static_cast<int>(std::lround(uv.x())), y = static_cast<int>(std::lround(uv.y()));

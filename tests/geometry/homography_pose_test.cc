@@ -47,6 +47,23 @@ TEST_P(HomographyPoseExact, RecoversThePoseToMachinePrecision) {
 
 INSTANTIATE_TEST_SUITE_P(Poses, HomographyPoseExact, ::testing::Range(0, 8));
 
+// The DLT's sign is fixed: every board point in front of the camera maps to a positive third
+// coordinate (callers test the plane's horizon with it), and the homography is the true one up to
+// that positive scale, whatever the pose (rolled past 90 degrees among them).
+TEST(HomographyDlt, SignPutsTheSeenPointsInFront) {
+  ChessboardTarget board{9, 6, 0.04};
+  std::vector<Vec2> plane;
+  for (const Vec3& p : board.cornersWorld()) plane.push_back(p.head<2>());
+  for (int k = 0; k < 16; ++k) {
+    const SE3 T_camera_board = boardInCamera(k) * SE3::fromRotvec(Vec3(0, 0, 0.4 * k), Vec3::Zero());
+    const Mat3 H = homographyDlt(plane, projectNormalised(T_camera_board, board.cornersWorld()));
+    Mat3 truth;
+    truth << T_camera_board.R().col(0), T_camera_board.R().col(1), T_camera_board.t();
+    EXPECT_LT((H - truth / truth.norm()).norm(), 1e-9) << "pose " << k;
+    for (const Vec2& p : plane) EXPECT_GT((H * p.homogeneous()).z(), 0) << "pose " << k;
+  }
+}
+
 // With 0.3 px corner noise: the refined pose and OpenCV's iterative PnP minimise the same
 // reprojection error, so they agree to 1e-6 m and 1e-4 degree. Against the truth: the board spans
 // 130 to 330 px (0.5 to 1.3 m), so 0.3 px noise leaves a few millimetres and, the tilt of a small
