@@ -62,7 +62,7 @@ struct BackendRegistration {
   std::string name;
   std::string summary;             // one line for --help
   std::vector<BackendMode> modes;  // the first is the default
-  bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE)
+  bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE | none)
   std::function<std::unique_ptr<BackendOptions>()> default_options;
   // context.mode is one of `modes`; options are checked. Throws InputError for a context the
   // back-end cannot work with (no camera, no target, ...).
