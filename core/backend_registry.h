@@ -62,7 +62,7 @@ struct BackendRegistration {
   std::string name;
   std::string summary;             // one line for --help
   std::vector<BackendMode> modes;  // the first is the default
-  bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE)
+  bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE | none)
   // The stage names its frames' CPU times use (summary.json `stages`), in the order a frame runs them.
   std::vector<std::string> stages;
   std::function<std::unique_ptr<BackendOptions>()> default_options;

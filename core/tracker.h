@@ -59,7 +59,9 @@ struct MapPoint {
   double sigma = -1;     // position standard deviation in metres (EKF); -1 if not known
 };
 
-enum class InitSource { Board, GroundTruth, Manual };
+// None: no target; the back-end starts from the first frame's features at an arbitrary scale
+// (its world frame is the first camera's; evaluated with Sim(3) alignment).
+enum class InitSource { Board, GroundTruth, Manual, None };
 
 // Everything a back-end gets; it reads no file and parses no command line itself.
 struct TrackerContext {

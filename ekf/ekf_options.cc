@@ -82,4 +82,32 @@ void ReportingOptions::check() const {
   require(max_position_sigma > 0, "max_position_sigma", "must be positive");
 }
 
+// Board-free start (issue 18).
+
+namespace {
+
+void requireUse(const std::string& use) {
+  require(use == "auto" || use == "on" || use == "off", "use", "must be auto, on or off, got '" + use + "'");
+}
+
+}  // namespace
+
+void InverseDepthOptions::check() const {
+  requireUse(use);
+  require(rho0 > 0, "rho0", "must be positive");
+  require(rho_sigma > 0, "rho_sigma", "must be positive");
+  require(linearity_threshold > 0, "linearity_threshold", "must be positive");
+  require(new_per_frame >= 1, "new_per_frame", "must be at least 1");
+}
+
+void OnePointRansacOptions::check() const {
+  requireUse(use);
+  require(inlier_pixels > 0, "inlier_pixels", "must be positive");
+  require(probability > 0 && probability < 1, "probability", "must be in (0, 1)");
+  require(max_hypotheses >= 1, "max_hypotheses", "must be at least 1");
+  require(rescue_gate > 0 && rescue_gate < 1, "rescue_gate", "must be in (0, 1)");
+}
+
+bool usesOption(const std::string& use, bool board_free) { return use == "on" || (use == "auto" && board_free); }
+
 }  // namespace slamcmp

@@ -3,6 +3,8 @@
 // SceneLib's where it has one (monoslam.cpp: 100 particles over 0.5-5 m, 20 particles minimum,
 // prune 0.05, 10-12 features a frame, 80x60 initialisation boxes) except the motion noise and the
 // promotion ratio (see below).
+#include <string>
+
 #include "core/options.h"
 
 namespace slamcmp {
@@ -152,7 +154,7 @@ struct StartOptions {
 struct ReportingOptions {
   int min_measured = 4;              // measurements a frame (points and board corners) for a well-measured frame
   int max_weak_frames = 3;           // this many weakly measured frames running: lost
-  double max_position_sigma = 0.05;  // m; a larger camera position std (largest axis): lost
+  double max_position_sigma = 0.05;  // m; a larger camera position std (largest axis): lost (not board-free)
   template <class V>
   void visit(V& v) {
     v("min_measured", min_measured, "measurements a frame (points and board corners) for a well-measured frame");
@@ -161,5 +163,57 @@ struct ReportingOptions {
   }
   void check() const;
 };
+
+// ---------------------------------------------------------------------------------------------
+// Board-free start (issue 18, SPEC section 8): features in inverse depth and the 1-point RANSAC
+// update. Kept apart from the SceneLib options above. `use` is "auto" (on for a board-free start,
+// `--init none`; off when a target starts the map, so the thesis's baseline is unchanged), "on"
+// or "off".
+
+// Civera, Davison and Montiel, "Inverse Depth Parametrization for Monocular SLAM" (T-RO 2008):
+// a feature is y = (x0, y0, z0, theta, phi, rho), the first camera centre, the ray's azimuth and
+// elevation in the world frame and the inverse depth along it, measured from its first
+// frame on. The scale of a board-free map is the prior's: new features start at rho0 (depth
+// 1 / rho0 units) with std rho_sigma, so the map's unit is arbitrary (Sim(3) evaluation).
+struct InverseDepthOptions {
+  std::string use = "auto";            // auto | on | off
+  double rho0 = 0.5;                   // 1/units, initial inverse depth of a new feature
+  double rho_sigma = 0.5;              // 1/units, its std (rho0 +- 2 sigma reaches infinity)
+  double linearity_threshold = 0.1;    // convert to a 3D point when L_d (Civera 2008 eq. 15) falls below it
+  int new_per_frame = 6;               // features started a frame at most (the first frame: min_visible)
+  template <class V>
+  void visit(V& v) {
+    v("use", use, "auto (on with --init none) | on | off: features in inverse depth instead of depth particles");
+    v("rho0", rho0, "1/units, initial inverse depth of a new feature (fixes a board-free map's scale)");
+    v("rho_sigma", rho_sigma, "1/units, std of the initial inverse depth");
+    v("linearity_threshold", linearity_threshold, "convert to a 3D point when the linearity index is below this");
+    v("new_per_frame", new_per_frame, "features started a frame at most");
+  }
+  void check() const;
+};
+
+// Civera, Grasa, Davison and Montiel, "1-Point RANSAC for EKF Filtering" (JFR 2010), Algorithm 1:
+// hypotheses from single matches (state-only EKF updates), the largest set within inlier_pixels
+// updates the filter, then the remaining matches within the rescue gate of the updated
+// prediction update it again. Replaces the joint compatibility test when on.
+struct OnePointRansacOptions {
+  std::string use = "auto";      // auto | on | off
+  double inlier_pixels = 2.0;    // pixels, a low-innovation inlier's distance to a hypothesis' prediction
+  double probability = 0.99;     // of drawing at least one all-inlier hypothesis (sets the count)
+  int max_hypotheses = 100;      // upper bound of the adaptive count
+  double rescue_gate = 0.99;     // chi2 (2 dof) probability for high-innovation inliers
+  template <class V>
+  void visit(V& v) {
+    v("use", use, "auto (on with --init none) | on | off: 1-point RANSAC instead of joint compatibility");
+    v("inlier_pixels", inlier_pixels, "pixels, a match this close to a hypothesis' prediction is its inlier");
+    v("probability", probability, "probability of drawing an all-inlier hypothesis (adaptive count)");
+    v("max_hypotheses", max_hypotheses, "most hypotheses a frame");
+    v("rescue_gate", rescue_gate, "chi2 (2 dof) probability that rescues a match after the first update");
+  }
+  void check() const;
+};
+
+// "auto" resolved: on for a board-free start.
+bool usesOption(const std::string& use, bool board_free);
 
 }  // namespace slamcmp

@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "ekf/corner_selection.h"
 #include "ekf/ekf_overlay.h"
+#include "ekf/inverse_depth.h"
 #include "ekf/measurement_model.h"
 #include "ekf/motion_model.h"
 
@@ -27,7 +28,11 @@ Mat3 rotationOf(const Vec4& q) { return Quat(q(0), q(1), q(2), q(3)).normalized(
 
 }  // namespace
 
-EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options) : camera_(camera), options_(options) {}
+EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free)
+    : camera_(camera),
+      options_(options),
+      inverse_depth_(usesOption(options.inverse_depth.use, board_free)),
+      ransac_(usesOption(options.ransac.use, board_free)) {}
 
 void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
   state_.reset(T_world_camera, P_camera);
@@ -50,17 +55,18 @@ void EkfSlam::predict(double dt) {
 }
 
 FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
-  return measureFeatures(state_, features_, camera_, grey, options_.search);
+  return measureFeatures(state_, features_, camera_, grey, options_.search, ransac_ ? &options_.ransac : nullptr, &rng_);
 }
 
 void EkfSlam::updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear) {
   updateRays(grey);
+  convertLinearFeatures();
   pruneAndGrow(grey, visible, keep_clear);
 }
 
 void EkfSlam::removeFeature(size_t index) {
   const int offset = features_[index].offset;
-  const int dim = features_[index].is_ray ? 6 : 3;
+  const int dim = features_[index].dim();
   state_.remove(offset, dim);
   for (MapFeature& f : features_)
     if (f.offset > offset) f.offset -= dim;
@@ -98,6 +104,17 @@ void EkfSlam::updateRays(const cv::Mat& grey) {
   }
 }
 
+void EkfSlam::convertLinearFeatures() {
+  for (MapFeature& f : features_) {
+    if (!f.inverse_depth || linearityIndex(state_, f.offset) >= options_.inverse_depth.linearity_threshold) continue;
+    const int id_offset = f.offset;
+    f.offset = convertToPoint(state_, id_offset);
+    f.inverse_depth = false;
+    for (MapFeature& g : features_)
+      if (&g != &f && g.offset > id_offset) g.offset -= 6;
+  }
+}
+
 void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear) {
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
@@ -111,29 +128,45 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<V
   const FeatureInitOptions& fo = options_.feature_init;
   const int rays = static_cast<int>(
       std::count_if(features_.begin(), features_.end(), [](const MapFeature& f) { return f.is_ray; }));
-  if (visible >= fo.min_visible || rays >= fo.max_initialising || static_cast<int>(features_.size()) >= mo.max_features)
-    return;
+  // A ray a frame while fewer than max_initialising wait for their particles; inverse-depth
+  // features are measured at once, several a frame.
+  const int wanted = inverse_depth_ ? std::min(fo.min_visible - visible, options_.inverse_depth.new_per_frame)
+                                    : std::min(1, fo.max_initialising - rays);
+  if (visible >= fo.min_visible || wanted <= 0) return;
   std::vector<Vec2> occupied = keep_clear;
   for (const MapFeature& f : features_) {
-    const Vec3 y = f.is_ray ? Vec3(state_.x().segment<3>(f.offset) +
-                                   f.particles.mean() * state_.x().segment<3>(f.offset + 3))
-                            : Vec3(state_.x().segment<3>(f.offset));
     PointMeasurement m;
-    if (predictMeasurement(camera_, state_.r(), state_.q(), y, &m)) occupied.push_back(m.uv_distorted);
+    if (predictMeasurement(camera_, state_.r(), state_.q(), featurePoint(state_.x(), f), &m))
+      occupied.push_back(m.uv_distorted);
   }
+  for (int k = 0; k < wanted && static_cast<int>(features_.size()) < mo.max_features; ++k)
+    if (!addFeature(grey, occupied)) return;
+}
+
+bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
+  const FeatureInitOptions& fo = options_.feature_init;
   Vec2 uv;
   const int margin = options_.search.source_size / 2 + 1;
-  if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv)) return;
+  if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv)) return false;
   MapFeature f;
   if (!makePatchSource(grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||
       !sourceTemplate(f.source, options_.search.patch_size, &f.ray_template) ||
       patchStdDev(f.ray_template) < options_.search.min_patch_stddev)
-    return;
+    return false;
   f.id = next_id_++;
-  f.is_ray = true;
-  f.offset = appendRay(state_, camera_, uv, options_.search.pixel_sigma);
-  f.particles = uniformParticles(fo.particles, fo.min_depth, fo.max_depth);
+  if (inverse_depth_) {
+    const InverseDepthOptions& io = options_.inverse_depth;
+    f.inverse_depth = true;
+    f.ray_template.release();  // only rays search with the unwarped template
+    f.offset = appendInverseDepthFeature(state_, camera_, uv, options_.search.pixel_sigma, io.rho0, io.rho_sigma);
+  } else {
+    f.is_ray = true;
+    f.offset = appendRay(state_, camera_, uv, options_.search.pixel_sigma);
+    f.particles = uniformParticles(fo.particles, fo.min_depth, fo.max_depth);
+  }
   features_.push_back(std::move(f));
+  occupied.push_back(uv);
+  return true;
 }
 
 std::string EkfSlam::divergence() const {
@@ -175,7 +208,7 @@ PoseCovariance EkfSlam::poseCovariance() const {
 std::vector<MapPoint> EkfSlam::mapPoints() const {
   std::vector<MapPoint> points;
   for (const MapFeature& f : features_) {
-    if (f.is_ray) continue;
+    if (f.dim() != 3) continue;  // rays and inverse-depth features are not points yet
     MapPoint p;
     p.id = f.id;
     p.p_world = state_.x().segment<3>(f.offset);

@@ -30,6 +30,8 @@ struct EkfSlamOptions {
   MapManagementOptions map;
   HealthOptions health;
   ReportingOptions reporting;
+  InverseDepthOptions inverse_depth;  // board-free start (issue 18)
+  OnePointRansacOptions ransac;
 };
 
 template <class V>
@@ -40,11 +42,15 @@ void visitFilterOptions(V& v, EkfSlamOptions& o) {
   v("map", o.map, "map size and deletion");
   v("health", o.health, "divergence detection");
   v("reporting", o.reporting, "when frames are reported lost instead of extrapolated");
+  v("inverse_depth", o.inverse_depth, "features in inverse depth (Civera 2008; board-free start)");
+  v("ransac", o.ransac, "1-point RANSAC update (Civera 2010; board-free start)");
 }
 
 class EkfSlam {
  public:
-  EkfSlam(const CameraModel& camera, const EkfSlamOptions& options);
+  // board_free: the map starts from nothing (`--init none`), which turns the "auto" of
+  // inverse_depth.use and ransac.use on.
+  EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free = false);
 
   // The camera alone at T_world_camera with covariance P_camera (13x13); the map is cleared.
   void reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera);
@@ -57,9 +63,11 @@ class EkfSlam {
   // Active search of the map's points and their update (frame_measurement.h).
   FrameMeasurement measure(const cv::Mat& grey);
   // Depth particles of the initialising rays weighted in this frame; converged rays become points,
-  // failed ones are dropped. Then features failing too often are deleted and, when too few are
-  // visible, a new ray is started in an image box free of features and of `keep_clear` (pixels,
-  // e.g. a board's corners: its repeated squares are a patch search's worst case).
+  // failed ones are dropped; inverse-depth features linear enough become points. Then features
+  // failing too often are deleted and, when too few are visible, a new ray (or up to
+  // inverse_depth.new_per_frame inverse-depth features) is started in image boxes free of features
+  // and of `keep_clear` (pixels, e.g. a board's corners: its repeated squares are a patch search's
+  // worst case).
   void updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear = {});
 
   // Why the filter cannot be trusted ("" if it can): not finite, not positive semi-definite, a
@@ -78,10 +86,15 @@ class EkfSlam {
  private:
   void removeFeature(size_t index);
   void updateRays(const cv::Mat& grey);
+  void convertLinearFeatures();
+  // A new feature at the strongest corner of a free box (a ray, or in inverse depth); false if none.
+  bool addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied);
   void pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear);
 
   CameraModel camera_;
   EkfSlamOptions options_;
+  bool inverse_depth_ = false;  // new features in inverse depth, not depth particles
+  bool ransac_ = false;         // 1-point RANSAC instead of joint compatibility
   EkfState state_;
   std::vector<MapFeature> features_;
   int next_id_ = 0;

@@ -15,22 +15,34 @@ Mat27 poseJacobian(const PointMeasurement& h) {
   return H;
 }
 
+int featureDim(const PointObservation& o) { return o.offset == kKnownPoint ? 0 : static_cast<int>(o.h.H_y.cols()); }
+
+// P H^T (n x 2) of one observation: H is non-zero only over (r, q) and the feature's block.
+Eigen::Matrix<double, Eigen::Dynamic, 2> gainNumerator(const Eigen::MatrixXd& P, const PointObservation& o) {
+  Eigen::Matrix<double, Eigen::Dynamic, 2> W = P.leftCols<kPose>() * poseJacobian(o.h).transpose();
+  if (const int d = featureDim(o)) W.noalias() += P.middleCols(o.offset, d) * o.h.H_y.transpose();
+  return W;
+}
+
+// H w for the rows of W = P H^T (or any n-row matrix) that H touches.
+Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const Eigen::MatrixXd& W) {
+  Eigen::Matrix<double, 2, Eigen::Dynamic> out = poseJacobian(o.h) * W.topRows<kPose>();
+  if (const int d = featureDim(o)) out.noalias() += o.h.H_y * W.middleRows(o.offset, d);
+  return out;
+}
+
 }  // namespace
 
 Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
   static_assert(EkfState::kR == 0 && EkfState::kQ == 3, "r and q are the first 7 entries");
   const Eigen::MatrixXd& P = state.P();
   const Mat27 H_c = poseJacobian(h);
-  if (offset == kKnownPoint) {
-    Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose();
-    S.diagonal().array() += pixel_sigma * pixel_sigma;
-    return 0.5 * (S + S.transpose());
+  Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose();
+  if (offset != kKnownPoint) {
+    const int d = static_cast<int>(h.H_y.cols());
+    const Mat2 cross = H_c * P.block(0, offset, kPose, d) * h.H_y.transpose();
+    S += h.H_y * P.block(offset, offset, d, d) * h.H_y.transpose() + cross + cross.transpose();
   }
-  const Eigen::Matrix<double, 2, 3> H_c_P_cy = H_c * P.block<kPose, 3>(0, offset);
-  Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose() +
-           h.H_y * P.block<3, 3>(offset, offset) * h.H_y.transpose();
-  const Mat2 cross = H_c_P_cy * h.H_y.transpose();
-  S += cross + cross.transpose();
   S.diagonal().array() += pixel_sigma * pixel_sigma;
   return 0.5 * (S + S.transpose());
 }
@@ -38,21 +50,24 @@ Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h,
 Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
                                      double pixel_sigma) {
   // P restricted to (r, q, y_1..y_m) and H over the same entries: S = H_sub P_sub H_sub^T + R
-  // (a known point's y block stays zero: it is exact).
-  const int m = static_cast<int>(observations.size()), d = kPose + 3 * m;
+  // (a known point has no block: it is exact).
+  const int m = static_cast<int>(observations.size());
   const Eigen::MatrixXd& P = state.P();
-  std::vector<int> index(d, -1);
-  for (int i = 0; i < kPose; ++i) index[i] = i;
-  for (int k = 0; k < m; ++k)
-    for (int i = 0; i < 3; ++i)
-      if (observations[k].offset != kKnownPoint) index[kPose + 3 * k + i] = observations[k].offset + i;
+  std::vector<int> index;
+  for (int i = 0; i < kPose; ++i) index.push_back(i);
+  std::vector<int> column(m);  // observation k's first column in H_sub
+  for (int k = 0; k < m; ++k) {
+    column[k] = static_cast<int>(index.size());
+    for (int i = 0; i < featureDim(observations[k]); ++i) index.push_back(observations[k].offset + i);
+  }
+  const int d = static_cast<int>(index.size());
   Eigen::MatrixXd P_sub(d, d);
   for (int j = 0; j < d; ++j)
-    for (int i = 0; i < d; ++i) P_sub(i, j) = index[i] < 0 || index[j] < 0 ? 0.0 : P(index[i], index[j]);
+    for (int i = 0; i < d; ++i) P_sub(i, j) = P(index[i], index[j]);
   Eigen::MatrixXd H_sub = Eigen::MatrixXd::Zero(2 * m, d);
   for (int k = 0; k < m; ++k) {
     H_sub.block<2, kPose>(2 * k, 0) = poseJacobian(observations[k].h);
-    H_sub.block<2, 3>(2 * k, kPose + 3 * k) = observations[k].h.H_y;
+    if (const int dim = featureDim(observations[k])) H_sub.block(2 * k, column[k], 2, dim) = observations[k].h.H_y;
   }
   Eigen::MatrixXd S = H_sub * P_sub * H_sub.transpose();
   S.diagonal().array() += pixel_sigma * pixel_sigma;
@@ -63,20 +78,11 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   if (observations.empty()) return true;
   const int m = static_cast<int>(observations.size()), n = state.size();
   Eigen::MatrixXd& P = state.P();
-  // P H^T (n x 2m): H is non-zero only over (r, q) and each observed point.
+  // P H^T (n x 2m), and S = H (P H^T) + R from the rows of P H^T that H touches.
   Eigen::MatrixXd W(n, 2 * m);
-  for (int k = 0; k < m; ++k) {
-    const PointObservation& o = observations[k];
-    W.middleCols<2>(2 * k).noalias() = P.leftCols<kPose>() * poseJacobian(o.h).transpose();
-    if (o.offset != kKnownPoint) W.middleCols<2>(2 * k).noalias() += P.middleCols<3>(o.offset) * o.h.H_y.transpose();
-  }
-  // S = H (P H^T) + R from the rows of P H^T that H touches.
+  for (int k = 0; k < m; ++k) W.middleCols<2>(2 * k) = gainNumerator(P, observations[k]);
   Eigen::MatrixXd S(2 * m, 2 * m);
-  for (int k = 0; k < m; ++k) {
-    const PointObservation& o = observations[k];
-    S.middleRows<2>(2 * k).noalias() = poseJacobian(o.h) * W.topRows<kPose>();
-    if (o.offset != kKnownPoint) S.middleRows<2>(2 * k).noalias() += o.h.H_y * W.middleRows<3>(o.offset);
-  }
+  for (int k = 0; k < m; ++k) S.middleRows<2>(2 * k) = applyH(observations[k], W);
   S.diagonal().array() += pixel_sigma * pixel_sigma;
   Eigen::VectorXd nu(2 * m);
   for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
@@ -90,6 +96,15 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   for (int j = 1; j < n; ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
   return true;
+}
+
+Eigen::VectorXd stateCorrection(const EkfState& state, const PointObservation& observation, double pixel_sigma) {
+  const Eigen::MatrixXd W = gainNumerator(state.P(), observation);
+  Mat2 S = applyH(observation, W);
+  S.diagonal().array() += pixel_sigma * pixel_sigma;
+  const Eigen::LLT<Mat2> llt(S);
+  if (llt.info() != Eigen::Success) return Eigen::VectorXd::Zero(state.size());
+  return W * llt.solve(observation.z - observation.h.uv_distorted);
 }
 
 }  // namespace slamcmp

@@ -12,14 +12,14 @@ namespace slamcmp {
 constexpr int kKnownPoint = -1;
 
 struct PointObservation {
-  int offset = 0;          // state offset of the point's 3 coordinates, or kKnownPoint
+  int offset = 0;          // state offset of the feature's block (h.H_y's columns wide), or kKnownPoint
   Vec2 z = Vec2::Zero();   // measured pixel (distorted)
   PointMeasurement h;      // prediction and Jacobians at the prior state
 };
 
 // One point's innovation covariance H P H^T + pixel_sigma^2 I. H is non-zero only over the
-// camera's (r, q), which are contiguous, and the point's y, so only those 10x10 entries of P are
-// read: O(1) whatever the map size.
+// camera's (r, q), which are contiguous, and the feature's y, so only those (7 + 3 or 6)^2
+// entries of P are read: O(1) whatever the map size.
 Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma);
 
 // The joint innovation covariance of the stacked predictions (2m x 2m, observation i at rows 2i,
@@ -33,5 +33,9 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 // and P stays exactly symmetric; the Joseph form would cost O(n^3)).
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
+
+// The state correction K (z - h) of one observation, without touching P (1-point RANSAC's
+// hypotheses, Civera et al. 2010): O(n). Zero when S is not positive definite.
+Eigen::VectorXd stateCorrection(const EkfState& state, const PointObservation& observation, double pixel_sigma);
 
 }  // namespace slamcmp

@@ -9,89 +9,32 @@
 
 #include "core/image.h"
 #include "ekf/ekf_update.h"
+#include "ekf/inverse_depth.h"
 #include "ekf/joint_compatibility.h"
 #include "ekf/measurement_model.h"
+#include "ekf/one_point_ransac.h"
 #include "ekf/patch_search.h"
 
 namespace slamcmp {
 
-FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
-                                 const cv::Mat& grey, const ActiveSearchOptions& so) {
-  FrameMeasurement out;
-  const int half = so.patch_size / 2;
-  std::vector<PointMeasurement> h_visible;  // parallel to out.features
-  std::vector<size_t> selectable;           // into out.features
-  for (size_t i = 0; i < features.size(); ++i) {
-    const MapFeature& f = features[i];
-    if (f.is_ray) continue;
-    PointMeasurement h;
-    if (!predictMeasurement(camera, state.r(), state.q(), state.x().segment<3>(f.offset), &h)) continue;
-    if (!camera.inImage(h.uv_distorted, half + 1)) continue;
-    FeatureSearch s;
-    s.index = i;
-    s.uv_predicted = h.uv_distorted;
-    s.S = pointInnovationCovariance(state, h, f.offset, so.pixel_sigma);
-    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
-    if (max_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
-    out.features.push_back(s);
-    h_visible.push_back(h);
-  }
-  out.visible = static_cast<int>(out.features.size());
-  // The most uncertain features first: they tell the filter the most.
-  std::sort(selectable.begin(), selectable.end(), [&](size_t a, size_t b) {
-    return out.features[a].S.determinant() > out.features[b].S.determinant();
-  });
-  if (static_cast<int>(selectable.size()) > so.features_per_frame) selectable.resize(so.features_per_frame);
+namespace {
 
-  // Search each selected feature's ellipse with its warped template.
-  const SE3 T_world_camera = state.T_world_camera();
-  std::vector<PointObservation> searched;
-  std::vector<std::vector<Vec2>> candidates_uv;
-  std::vector<size_t> searched_slot;  // into out.features
-  for (size_t slot : selectable) {
-    FeatureSearch& s = out.features[slot];
-    MapFeature& f = features[s.index];
-    s.outcome = SearchOutcome::Failed;
-    ++f.attempts;
-    cv::Mat templ;
-    if (!warpTemplate(f.source, camera, T_world_camera, state.x().segment<3>(f.offset), s.uv_predicted,
-                      so.patch_size, &templ) ||
-        patchStdDev(templ) < so.min_patch_stddev)
-      continue;
-    std::vector<PatchMatch> matches = searchEllipses(grey, templ, {{s.uv_predicted, s.S}}, so.sigma_gate, so.min_ncc);
-    if (matches.empty()) continue;
-    // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
-    // equally well and the correct one is the most likely, not the best scoring.
-    const Mat2 S_inv = s.S.inverse();
-    auto distance = [&](const PatchMatch& m) {
-      const Vec2 d = m.uv - s.uv_predicted;
-      return d.dot(S_inv * d);
-    };
-    std::sort(matches.begin(), matches.end(),
-              [&](const PatchMatch& a, const PatchMatch& b) { return distance(a) < distance(b); });
-    if (static_cast<int>(matches.size()) > so.max_candidates) matches.resize(so.max_candidates);
-    PointObservation o;
-    o.offset = f.offset;
-    o.h = h_visible[slot];
-    searched.push_back(o);
-    candidates_uv.emplace_back();
-    for (const PatchMatch& m : matches) candidates_uv.back().push_back(m.uv);
-    searched_slot.push_back(slot);
-  }
-  if (searched.empty()) return out;
-
-  // The jointly compatible choice among the candidates, then one update.
+// Joint compatibility among each searched feature's candidates, then each match against the
+// others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order.
+std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointObservation>& searched,
+                                      const std::vector<std::vector<Vec2>>& candidates_uv,
+                                      const ActiveSearchOptions& so) {
   std::vector<Vec2> predicted;
   for (const PointObservation& o : searched) predicted.push_back(o.h.uv_distorted);
   const std::vector<int> choice = jointCompatibleAssociation(
       predicted, innovationCovariance(state, searched, so.pixel_sigma), candidates_uv, so.joint_gate);
   std::vector<PointObservation> observations;
-  std::vector<size_t> observed_slot;
+  std::vector<size_t> kept;
   for (size_t k = 0; k < searched.size(); ++k) {
     if (choice[k] < 0) continue;
     searched[k].z = candidates_uv[k][choice[k]];
     observations.push_back(searched[k]);
-    observed_slot.push_back(searched_slot[k]);
+    kept.push_back(k);
   }
   // Each match against the prediction the others make of it: a patch sliding along an occluding
   // edge drifts a few pixels a frame, inside its own (large, at 10 fps) ellipse and jointly
@@ -117,18 +60,117 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     }
     if (worst < 0) break;
     observations.erase(observations.begin() + worst);
-    observed_slot.erase(observed_slot.begin() + worst);
+    kept.erase(kept.begin() + worst);
   }
-  // An innovation covariance that is not positive definite means the filter's numbers broke: no
-  // update, and the frame counts as unmeasured (the health check then ends the run of frames).
-  if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
-  for (size_t k = 0; k < observations.size(); ++k) {
-    FeatureSearch& s = out.features[observed_slot[k]];
+  return kept;
+}
+
+}  // namespace
+
+bool predictFeature(const CameraModel& camera, const Eigen::VectorXd& x, const MapFeature& feature,
+                    PointMeasurement* h) {
+  const Vec3 r = x.segment<3>(EkfState::kR);
+  const Vec4 q = x.segment<4>(EkfState::kQ);
+  if (feature.is_ray) return false;
+  if (feature.inverse_depth) return predictInverseDepthMeasurement(camera, r, q, x.segment<6>(feature.offset), h);
+  return predictMeasurement(camera, r, q, x.segment<3>(feature.offset), h);
+}
+
+Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature) {
+  if (feature.inverse_depth) return inverseDepthPoint(x.segment<6>(feature.offset));
+  if (feature.is_ray) return x.segment<3>(feature.offset) + feature.particles.mean() * x.segment<3>(feature.offset + 3);
+  return x.segment<3>(feature.offset);
+}
+
+FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
+                                 const cv::Mat& grey, const ActiveSearchOptions& so,
+                                 const OnePointRansacOptions* ransac, std::mt19937* rng) {
+  FrameMeasurement out;
+  const int half = so.patch_size / 2;
+  std::vector<PointMeasurement> h_visible;  // parallel to out.features
+  std::vector<size_t> selectable;           // into out.features
+  for (size_t i = 0; i < features.size(); ++i) {
+    const MapFeature& f = features[i];
+    PointMeasurement h;
+    if (!predictFeature(camera, state.x(), f, &h)) continue;
+    if (!camera.inImage(h.uv_distorted, half + 1)) continue;
+    FeatureSearch s;
+    s.index = i;
+    s.uv_predicted = h.uv_distorted;
+    s.S = pointInnovationCovariance(state, h, f.offset, so.pixel_sigma);
+    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
+    if (max_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
+    out.features.push_back(s);
+    h_visible.push_back(h);
+  }
+  out.visible = static_cast<int>(out.features.size());
+  // The most uncertain features first: they tell the filter the most.
+  std::sort(selectable.begin(), selectable.end(), [&](size_t a, size_t b) {
+    return out.features[a].S.determinant() > out.features[b].S.determinant();
+  });
+  if (static_cast<int>(selectable.size()) > so.features_per_frame) selectable.resize(so.features_per_frame);
+
+  // Search each selected feature's ellipse with its warped template.
+  const SE3 T_world_camera = state.T_world_camera();
+  std::vector<PointObservation> searched;
+  std::vector<std::vector<Vec2>> candidates_uv;  // nearest the prediction first
+  std::vector<Vec2> best_uv;                      // the best-correlating candidate
+  std::vector<size_t> searched_slot;  // into out.features
+  for (size_t slot : selectable) {
+    FeatureSearch& s = out.features[slot];
+    MapFeature& f = features[s.index];
+    s.outcome = SearchOutcome::Failed;
+    ++f.attempts;
+    cv::Mat templ;
+    if (!warpTemplate(f.source, camera, T_world_camera, featurePoint(state.x(), f), s.uv_predicted,
+                      so.patch_size, &templ) ||
+        patchStdDev(templ) < so.min_patch_stddev)
+      continue;
+    std::vector<PatchMatch> matches = searchEllipses(grey, templ, {{s.uv_predicted, s.S}}, so.sigma_gate, so.min_ncc);
+    if (matches.empty()) continue;
+    best_uv.push_back(matches.front().uv);
+    // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
+    // equally well and the correct one is the most likely, not the best scoring.
+    const Mat2 S_inv = s.S.inverse();
+    auto distance = [&](const PatchMatch& m) {
+      const Vec2 d = m.uv - s.uv_predicted;
+      return d.dot(S_inv * d);
+    };
+    std::sort(matches.begin(), matches.end(),
+              [&](const PatchMatch& a, const PatchMatch& b) { return distance(a) < distance(b); });
+    if (static_cast<int>(matches.size()) > so.max_candidates) matches.resize(so.max_candidates);
+    PointObservation o;
+    o.offset = f.offset;
+    o.h = h_visible[slot];
+    searched.push_back(o);
+    candidates_uv.emplace_back();
+    for (const PatchMatch& m : matches) candidates_uv.back().push_back(m.uv);
+    searched_slot.push_back(slot);
+  }
+  if (searched.empty()) return out;
+
+  std::vector<size_t> kept;
+  if (ransac) {
+    for (size_t k = 0; k < searched.size(); ++k) searched[k].z = best_uv[k];
+    const ObservationPredictor predict = [&](const Eigen::VectorXd& x, size_t k, PointMeasurement* h) {
+      return predictFeature(camera, x, features[out.features[searched_slot[k]].index], h);
+    };
+    kept = onePointRansacUpdate(state, searched, predict, *ransac, so.pixel_sigma, *rng);
+  } else {
+    kept = jointlyCompatible(state, searched, candidates_uv, so);
+    std::vector<PointObservation> observations;
+    for (size_t k : kept) observations.push_back(searched[k]);
+    // An innovation covariance that is not positive definite means the filter's numbers broke: no
+    // update, and the frame counts as unmeasured (the health check then ends the run of frames).
+    if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
+  }
+  for (size_t k : kept) {
+    FeatureSearch& s = out.features[searched_slot[k]];
     s.outcome = SearchOutcome::Matched;
-    s.uv_matched = observations[k].z;
+    s.uv_matched = searched[k].z;
     ++features[s.index].successes;
   }
-  out.matched = static_cast<int>(observations.size());
+  out.matched = static_cast<int>(kept.size());
   return out;
 }
 

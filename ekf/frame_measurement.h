@@ -2,6 +2,7 @@
 // One frame's measurement of the map (SPEC section 5, Davison et al. 2007 section 3.5): predict
 // every point and its innovation covariance, search the ellipses of the most uncertain ones with
 // their warped templates, choose jointly compatible matches and update the EKF in one batch.
+#include <random>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -10,6 +11,7 @@
 #include "ekf/ekf_state.h"
 #include "ekf/map_feature.h"
 #include "ekf/ekf_options.h"
+#include "ekf/measurement_model.h"
 
 namespace slamcmp {
 
@@ -33,10 +35,21 @@ struct FrameMeasurement {
   std::vector<FeatureSearch> features;  // every visible point, in feature-list order
 };
 
-// Measures the points (rays are skipped) and updates `state`; counts attempts and successes in
-// `features`. Each point's S is read from its own blocks of P (O(1)); the joint S of the searched
-// ones is O(m^2); the update is O(n^2 m).
+// A feature's prediction from the state vector x (the camera's r and q at its head): a 3D point
+// (measurement_model.h) or an inverse-depth feature (inverse_depth.h); false for a ray.
+bool predictFeature(const CameraModel& camera, const Eigen::VectorXd& x, const MapFeature& feature,
+                    PointMeasurement* h);
+// Where the feature is in the world: a point, an inverse-depth feature's x0 + m / rho (far when
+// rho <= 0), a ray at its particles' mean depth.
+Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature);
+
+// Measures the points and inverse-depth features (rays are skipped) and updates `state`; counts
+// attempts and successes in `features`. Each feature's S is read from its own blocks of P (O(1));
+// the update is O(n^2 m). The matches are chosen by joint compatibility among each feature's
+// candidates (O(m^2) per test), or with `ransac` by 1-point RANSAC over each one's best-correlating
+// candidate (one_point_ransac.h; its draws from `rng`).
 FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
-                                 const cv::Mat& grey, const ActiveSearchOptions& options);
+                                 const cv::Mat& grey, const ActiveSearchOptions& options,
+                                 const OnePointRansacOptions* ransac = nullptr, std::mt19937* rng = nullptr);
 
 }  // namespace slamcmp

@@ -12,8 +12,9 @@ bool predictMeasurement(const CameraModel& camera, const Vec3& r, const Vec4& q,
   Mat23 J_p;
   out->uv_distorted = camera.project(out->p_camera, &J_p);
   // p_camera = R(q)^T (y - r): d/dy = R^T, d/dr = -R^T.
-  out->H_y = J_p * rotationFromQuat(q).transpose();
-  out->H_r = -out->H_y;
+  const Mat23 H_y = J_p * rotationFromQuat(q).transpose();
+  out->H_y = H_y;
+  out->H_r = -H_y;
   out->H_q = J_p * J_q;
   return true;
 }

@@ -10,13 +10,15 @@ namespace slamcmp {
 
 using Mat23 = Eigen::Matrix<double, 2, 3>;
 using Mat24 = Eigen::Matrix<double, 2, 4>;
+// d h / d y: 2x3 for a 3D point, 2x6 for an inverse-depth feature (inverse_depth.h); no heap.
+using FeatureJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, 6>;
 
 struct PointMeasurement {
   Vec2 uv_distorted;
   Vec3 p_camera;
   Mat23 H_r;  // d h / d r
   Mat24 H_q;  // d h / d q
-  Mat23 H_y;  // d h / d y
+  FeatureJacobian H_y;  // d h / d y (its columns: the feature's state size)
 };
 
 // False when the point is closer than min_depth in front of the camera (no projection).

@@ -1,5 +1,7 @@
 #include "monoslam_ekf/monoslam_tracker.h"
 
+#include <limits>
+
 #include "core/chessboard.h"
 #include "core/error.h"
 #include "geometry/homography_pose.h"
@@ -7,6 +9,15 @@
 namespace slamcmp {
 
 namespace {
+
+// A board-free run's camera position std is mostly that of its unobservable scale (it grows with
+// the distance from the first camera whatever the tracking does): only the measurement count
+// tells its frames lost.
+ReportingOptions reportingFor(const MonoslamOptions& options, InitSource init) {
+  ReportingOptions reporting = options.filter.reporting;
+  if (init == InitSource::None) reporting.max_position_sigma = std::numeric_limits<double>::infinity();
+  return reporting;
+}
 
 // The four outer inner corners' pixels (ChessboardTarget::outerCornersWorld order) among all the
 // inner corners (SPEC section 2 order).
@@ -24,14 +35,14 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
     : options_(options),
       init_(context.init),
       want_overlay_(context.want_overlay),
-      slam_(context.camera ? *context.camera : CameraModel(),
-            options.filter),
-      reporting_(options.filter.reporting) {
+      slam_(context.camera ? *context.camera : CameraModel(), options.filter, context.init == InitSource::None),
+      reporting_(reportingFor(options, context.init)) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
+  camera_ = *context.camera;
+  if (init_ == InitSource::None) return;  // no target: the first frame's features start the map
   if (!context.target)
     throw InputError("--target", "the monoslam back-end needs the board (target.yaml): its corners start the map");
-  camera_ = *context.camera;
   target_ = *context.target;
   if (init_ != InitSource::Board) {
     if (!context.T_world_camera_init)
@@ -43,12 +54,33 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
 nlohmann::json MonoslamTracker::options() const { return optionsToJson(options_); }
 
 void MonoslamTracker::finish() {
-  if (!ever_started_)
+  if (!ever_started_ && init_ != InitSource::None)
     throw InputError("", "monoslam never started: no frame showed the " + std::to_string(target_.cols) + "x" +
                              std::to_string(target_.rows) + " chessboard (--init board needs it in view)");
 }
 
+bool MonoslamTracker::startWithoutMap(const Frame& frame, std::string* reason) {
+  // A restart would begin a new world frame at a new scale, unrelated to the poses before it.
+  if (ever_started_) {
+    *reason = "a board-free run does not restart";
+    return false;
+  }
+  // The world frame is the first camera's, known exactly; the scale is the inverse-depth prior's.
+  const StartOptions& s = options_.start;
+  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
+  P0.diagonal().segment<3>(EkfState::kV).setConstant(s.velocity_sigma * s.velocity_sigma);
+  P0.diagonal().segment<3>(EkfState::kW).setConstant(s.angular_velocity_sigma * s.angular_velocity_sigma);
+  slam_.reset(SE3(), P0);
+  running_ = true;
+  ever_started_ = true;
+  reporting_.reset();
+  frames_unmeasured_ = 0;
+  last_timestamp_ = frame.timestamp;
+  return true;
+}
+
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
+  if (init_ == InitSource::None) return startWithoutMap(frame, reason);
   std::vector<cv::Point2f> corners;
   const bool board_seen = detectChessboard(frame.grey, target_, &corners, options_.board);
   // A symmetric board's origin: the one nearest where the given pose, or the last pose before a
@@ -159,7 +191,10 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
   }
   result.features = static_cast<int>(slam_.features().size());
-  if (const std::string weak = reporting_.weakness(result.measured, /*anchored=*/false, slam_.state()); !weak.empty()) {
+  // Nothing absolute anchors a board-free map: its frames are posed again once well measured.
+  const bool anchored =
+      init_ == InitSource::None && result.measured >= options_.filter.reporting.min_measured;
+  if (const std::string weak = reporting_.weakness(result.measured, anchored, slam_.state()); !weak.empty()) {
     result.status = TrackStatus::Lost;  // the filter runs on; its extrapolation is not a pose
     result.reason = weak;
     return result;

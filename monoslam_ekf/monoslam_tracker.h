@@ -15,8 +15,10 @@ namespace slamcmp {
 
 class MonoslamTracker : public Tracker {
  public:
-  // Throws InputError without a camera or a target, or without T_world_camera_init for
-  // groundtruth/manual initialisation. `options` are checked (checkOptions).
+  // Throws InputError without a camera, without a target (but for --init none), or without
+  // T_world_camera_init for groundtruth/manual initialisation. `options` are checked (checkOptions).
+  // --init none: the world frame is the first camera's and the map starts from that frame's
+  // features in inverse depth, at the scale of their prior (ekf/inverse_depth.h).
   MonoslamTracker(const TrackerContext& context, const MonoslamOptions& options);
 
   std::string name() const override { return "monoslam"; }
@@ -28,6 +30,7 @@ class MonoslamTracker : public Tracker {
 
  private:
   bool start(const Frame& frame, std::string* reason);
+  bool startWithoutMap(const Frame& frame, std::string* reason);  // --init none
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
 
   CameraModel camera_;

@@ -27,7 +27,8 @@ void addRunCommand(CLI::App& app) {
       ->check(CLI::Range(0, std::numeric_limits<int>::max()));
   cmd->add_option("--mode", request->mode, "the back-end's mode (below; default its first)");
   cmd->add_option("--init", request->init,
-                  "back-ends that take it (below): board (default) | groundtruth | manual:FILE (a TUM pose)");
+                  "back-ends that take it (below): board (default) | groundtruth | manual:FILE (a TUM pose) | "
+                  "none (no target: scale-free start, scored after Sim(3) alignment)");
   cmd->add_option("--overlay", request->overlay_path,
                   "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
                   "a folder of PNGs, with overlay.csv listing the drawn positions")->check(nonEmptyPath());
@@ -40,6 +41,7 @@ void addRunCommand(CLI::App& app) {
               << summary["frames"] << " frames tracked, median "
               << summary["ms_per_frame"]["median"].get<double>() << " ms/frame";
     if (summary.contains("ate")) std::cout << ", ATE rmse " << summary["ate"]["trans"]["rmse"] << " m";
+    if (summary.contains("scale")) std::cout << " after Sim(3) alignment, scale " << summary["scale"];
     std::cout << "\n";
   });
 }

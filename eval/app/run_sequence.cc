@@ -28,10 +28,12 @@ std::atomic<bool> g_interrupted{false};
 
 extern "C" void onInterrupt(int) { g_interrupted = true; }
 
-// TrackerContext.init from "board", "groundtruth" or "manual:FILE".
+// TrackerContext.init from "board", "groundtruth", "manual:FILE" or "none".
 void setInitialisation(const std::string& init, const Sequence& seq, TrackerContext* context) {
   if (init == "board") {
     context->init = InitSource::Board;
+  } else if (init == "none") {
+    context->init = InitSource::None;
   } else if (init == "groundtruth") {
     if (!seq.groundtruth)
       throw InputError("--init groundtruth", "sequence " + seq.path + " has no groundtruth.txt");
@@ -43,7 +45,7 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
     context->init = InitSource::Manual;
     context->T_world_camera_init = readTrajectory(file, TrajectoryFormat::Tum).front().T_world_camera;
   } else {
-    throw InputError("--init", "must be board, groundtruth or manual:FILE, got '" + init + "'");
+    throw InputError("--init", "must be board, groundtruth, manual:FILE or none, got '" + init + "'");
   }
 }
 
@@ -158,14 +160,25 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["interrupted"] = interrupted() || quit;
   if (board_symmetric) extra["board_symmetric"] = true;
   extra["options"] = tracker->options();
+  // A board-free start has no metric world frame: its world is its first camera's and its unit
+  // the inverse-depth prior's, so it is scored after a Sim(3) alignment (and says so).
+  const bool scale_free = backend.takes_init && context.init == InitSource::None;
+  if (scale_free) {
+    extra["alignment"] = "sim3";
+    extra["scale_convention"] = "arbitrary: world = the first camera, unit = the inverse-depth prior's "
+                                "(options inverse_depth.rho0); scale = ground-truth metres per unit";
+  }
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
-      if (const auto errors = evaluateRun(*seq.groundtruth, estimate)) {
+      Similarity3 T_gt_estimate;
+      if (const auto errors = evaluateRun(*seq.groundtruth, estimate, scale_free ? "sim3" : "none")) {
         extra["ate"] = errors->json["ate"];
         extra["rpe"] = errors->json["rpe"];
+        T_gt_estimate = errors->T_gt_estimate;
+        if (scale_free) extra["scale"] = T_gt_estimate.scale;
       }
-      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff))
+      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate))
         extra["nees"] = neesToJson(*nees);
     } catch (const InputError& e) {  // the run is fine; only its score is impossible
       extra["metrics_error"] = e.what();

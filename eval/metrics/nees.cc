@@ -41,7 +41,7 @@ double chiSquareQuantile(double probability, double dof) {
 }
 
 std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
-                                   double max_diff) {
+                                   double max_diff, const Similarity3& T_gt_estimate) {
   if (groundtruth.empty() || estimate.empty()) return std::nullopt;
   Trajectory poses;
   for (const CovariantPose& c : estimate) poses.push_back({c.timestamp, c.T_world_camera});
@@ -51,9 +51,14 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   for (size_t k = 0; k < pairs.size(); ++k) {
     const SE3& gt = groundtruth[pairs.groundtruth[k]].T_world_camera;
     const CovariantPose& est = estimate[pairs.estimate[k]];
+    // p' = s R p + t, R' = R R_est: the world-frame rotation error turns with R.
+    const SE3 T_gt_est(T_gt_estimate.R * est.T_world_camera.R(), T_gt_estimate * est.T_world_camera.t());
+    Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Zero();
+    G.topLeftCorner<3, 3>() = T_gt_estimate.scale * T_gt_estimate.R;
+    G.bottomRightCorner<3, 3>() = T_gt_estimate.R;
     Eigen::Matrix<double, 6, 1> e;
-    e << gt.t() - est.T_world_camera.t(), rotvecFromRotation(gt.R() * est.T_world_camera.R().transpose());
-    const Eigen::LLT<PoseCovariance> llt(est.covariance);
+    e << gt.t() - T_gt_est.t(), rotvecFromRotation(gt.R() * T_gt_est.R().transpose());
+    const Eigen::LLT<PoseCovariance> llt(G * est.covariance * G.transpose());
     if (llt.info() != Eigen::Success) continue;
     sum += e.dot(llt.solve(e));
     ++n;

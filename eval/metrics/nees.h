@@ -10,6 +10,7 @@
 
 #include "core/tracker.h"
 #include "core/trajectory.h"
+#include "eval/metrics/align_umeyama.h"
 
 namespace slamcmp {
 
@@ -28,8 +29,11 @@ struct NeesResult {
 
 // Poses associated with the ground truth by timestamp (within max_diff seconds); poses whose
 // covariance is not positive definite are skipped. Nothing when no pose can be scored.
+// T_gt_estimate: the alignment of a scale-free run (run_errors.h), applied to each pose and its
+// covariance (position block by s R, rotation block by R) before scoring; it was fitted to the
+// same poses, so the figure leans optimistic by the alignment's 7 dof over the run.
 std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
-                                   double max_diff);
+                                   double max_diff, const Similarity3& T_gt_estimate = Similarity3());
 
 // The chi-square quantile (Wilson and Hilferty's approximation, within 0.1 % from 30 dof up).
 double chiSquareQuantile(double probability, double dof);

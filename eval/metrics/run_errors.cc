@@ -4,11 +4,16 @@
 
 namespace slamcmp {
 
-std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate) {
+std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate,
+                                     const std::string& align) {
   if (estimate.size() < 2) return std::nullopt;
-  const EvalOptions options;  // no alignment, 10 ms, delta 1
+  EvalOptions options;  // 10 ms, delta 1
+  options.align = align;
+  options.check();
   RunErrors r;
   const TrajectoryEvaluation e = evaluateTrajectory(groundtruth, estimate, options);
+  r.align = e.align;
+  r.T_gt_estimate = e.T_gt_estimate;
   r.ate_trans_rmse = e.ate_trans_stats.rmse;
   r.ate_rot_rmse_deg = e.ate_rot_deg_stats.rmse;
   r.rpe_trans_rmse = e.rpe_trans_stats.rmse;

@@ -1,12 +1,14 @@
 #pragma once
 // A run's error against ground truth as run's summary.json and compare's tables report it: no
-// alignment (the world frame is the board frame for every back-end), RPE over 1 frame, timestamps
-// associated within 10 ms.
+// alignment (the world frame is the board frame for every back-end started from the board), or
+// Sim(3) for a scale-free run (`--init none`: its world frame is its first camera's, its unit
+// arbitrary); RPE over 1 frame, timestamps associated within 10 ms.
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "core/trajectory.h"
+#include "eval/metrics/align_umeyama.h"
 
 namespace slamcmp {
 
@@ -15,10 +17,14 @@ struct RunErrors {
   double ate_rot_rmse_deg = 0;  // degrees
   double rpe_trans_rmse = 0;    // metres, per frame
   double rpe_rot_rmse_deg = 0;  // degrees, per frame
+  std::string align = "none";   // none | sim3
+  Similarity3 T_gt_estimate;    // the alignment applied (its scale: ground-truth metres per estimate unit)
   nlohmann::json json;          // the `slamcmp eval --json` object
 };
 
 // Nothing for an estimate of fewer than two poses; throws InputError when no pose can be associated.
-std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate);
+// align: "none" or "sim3" (summary.json's `alignment`).
+std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate,
+                                     const std::string& align = "none");
 
 }  // namespace slamcmp

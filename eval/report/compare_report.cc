@@ -54,7 +54,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   r.summary = nlohmann::json::parse(in);
   r.frames = readFramesCsv(dir + "/frames.csv");
   if (r.summary.value("tracked", 0) > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
-  if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory);
+  if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   if (seq.scene) {
     r.map = readMapPly(dir + "/map.ply");
     r.map_errors = evaluateMap(r.map, *seq.scene);
@@ -118,7 +118,9 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
   }
 
   md << "\n## Accuracy against ground truth (what the thesis could not measure)\n\n"
-     << "World frame = board frame, so no alignment: ATE is the error of the pose as reported. RPE over 1 frame.\n\n"
+     << "World frame = board frame, so no alignment: ATE is the error of the pose as reported; a run started "
+        "without a board (--init none) is scale-free and scored after Sim(3) alignment, marked (sim3, scale s). "
+        "RPE over 1 frame.\n\n"
      << "| video | method | tracked | first lost | ATE rmse [mm] | ATE rot rmse [deg] | RPE rmse [mm] | "
         "RPE rot rmse [deg] | ms median | ms p99 |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (size_t s = 0; s < seqs.size(); ++s)
@@ -140,7 +142,9 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
       }
       const double med = jsonNumber(r.summary, {"ms_per_frame", "median"});
       const double p99 = jsonNumber(r.summary, {"ms_per_frame", "p99"});
-      md << "| " << seqs[s].name << " | " << r.method.label() << " | " << tracked << "/" << frames << " | "
+      const std::string aligned =
+          r.errors && r.errors->align == "sim3" ? " (sim3, scale " + fmt(r.errors->T_gt_estimate.scale, 3) + ")" : "";
+      md << "| " << seqs[s].name << " | " << r.method.label() << aligned << " | " << tracked << "/" << frames << " | "
          << first_lost << " | " << fmt(ate * 1e3) << " | " << fmt(ate_rot, 3) << " | " << fmt(rpe * 1e3) << " | "
          << fmt(rpe_rot, 3) << " | " << fmt(med) << " | " << fmt(p99) << " |\n";
       acc << seqs[s].name << "," << r.method.label() << "," << frames << "," << tracked << ","

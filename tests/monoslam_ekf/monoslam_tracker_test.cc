@@ -5,13 +5,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include <gtest/gtest.h>
 
 #include "core/error.h"
 #include "core/sequence.h"
+#include "core/trajectory.h"
 #include "datasets/synth_sequence.h"
+#include "eval/metrics/trajectory_metrics.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -19,6 +23,7 @@ namespace {
 
 struct RunResult {
   int frames = 0, tracked = 0;
+  Trajectory estimate;          // the posed frames
   std::vector<double> error_m;  // per tracked frame: |t_gt - t_est|
   std::vector<FrameResult> results;
   double ateRmse() const {
@@ -47,10 +52,18 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
     ++run.frames;
     if (!r.T_world_camera) continue;
     ++run.tracked;
+    run.estimate.push_back({frame.timestamp, *r.T_world_camera});
     if (seq.groundtruth)
       run.error_m.push_back((r.T_world_camera->t() - (*seq.groundtruth)[frame.index].T_world_camera.t()).norm());
   }
   return run;
+}
+
+// ATE RMSE (m) after Sim(3) alignment onto the sequence's ground truth.
+double sim3Ate(const std::string& path, const RunResult& run) {
+  EvalOptions options;
+  options.align = "sim3";
+  return evaluateTrajectory(*openSequence(path).groundtruth, run.estimate, options).ate_trans_stats.rmse;
 }
 
 // 70 frames of tv1 rendered once for the suite (one sample per pixel: fast, still textured).
@@ -99,6 +112,17 @@ TEST_F(MonoslamOnTv1, SmallManualStartErrorStaysBounded) {
     if (i + 20 >= run.error_m.size()) late = std::max(late, run.error_m[i]);
   }
   EXPECT_LT(late, 0.015);
+}
+
+// Issue 18: started without the board (inverse depth, 1-point RANSAC, an arbitrary scale), every
+// frame is posed and the Sim(3)-aligned ATE is within 2x the board-started run's.
+TEST_F(MonoslamOnTv1, BoardFreeStartWithinTwiceTheBoardStartedSim3Error) {
+  const RunResult board = runTracker(dir_->path(), InitSource::Board, std::nullopt);
+  const RunResult none = runTracker(dir_->path(), InitSource::None, std::nullopt);
+  EXPECT_EQ(none.tracked, none.frames);
+  EXPECT_LT(sim3Ate(dir_->path(), none), 2 * sim3Ate(dir_->path(), board));
+  // Its world is the first camera's, and its map has no board corners.
+  EXPECT_LT(none.estimate.front().T_world_camera.t().norm(), 1e-12);
 }
 
 TEST_F(MonoslamOnTv1, MapPointsCarryTheirUncertainty) {
@@ -187,11 +211,57 @@ TEST(MonoslamTracker, Tv4MotionAlongTheOpticalAxisUnderOneCentimetre) {
   EXPECT_LT(worst, 0.02);
 }
 
+// The same moving along the optical axis (tv3) and on a roll of 110 degrees with strong
+// distortion. Not on tv4 (its first 130 frames back away along the optical axis): there the
+// board-free run drifts in scale and misses the target (15 mm against 1.8 mm, README).
+TEST(MonoslamTracker, BoardFreeStartOnTv3AndRollWithinTwiceTheBoardStartedSim3Error) {
+  for (const std::string preset : {"tv3", "roll_distortion"}) {
+    test::TempDir dir;
+    SynthOptions options;
+    options.preset = preset;
+    options.frames = 100;
+    options.supersample = 1;
+    writeSyntheticSequence(options, dir.path());
+    const RunResult board = runTracker(dir.path(), InitSource::Board, std::nullopt);
+    const RunResult none = runTracker(dir.path(), InitSource::None, std::nullopt);
+    EXPECT_EQ(none.tracked, none.frames) << preset;
+    EXPECT_LT(sim3Ate(dir.path(), none), 2 * sim3Ate(dir.path(), board)) << preset;
+  }
+}
+
 TEST(MonoslamTracker, RealVamrCheckerboardFirst150Frames) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const RunResult run = runTracker(shared + "/vamr_checkerboard", InitSource::Board, std::nullopt, 150);
   EXPECT_GE(run.tracked, 0.95 * run.frames);
   EXPECT_LT(run.ateRmse(), 0.03);
+}
+
+// Issue 18's real sequence: TUM RGB-D fr1_rpy (250 frames, handheld Kinect, 40-170 degrees/s of
+// rotation, motion capture), run as a user runs it: `slamcmp run --init none`, scored after Sim(3)
+// alignment. The issue's targets (95 % posed, rotation RMSE 2 degrees, Sim(3) ATE 3 cm) are NOT
+// met today: the constant-velocity filter loses the fast, jerky rotation after a few dozen frames
+// and reports the rest lost (16 % posed, Sim(3) ATE 1.5 cm over those). This test holds that
+// level (posed >= 15 %, ATE <= 3 cm over the posed frames) and the honest output: every frame
+// either posed or lost, the alignment and scale stated.
+TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
+  SLAMCMP_REQUIRE_SHARED(shared);
+  const std::string sequence = shared + "/tum_fr1_rpy";
+  if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
+  test::TempDir out;
+  const test::CommandResult r =
+      test::runSlamcmp("run --backend monoslam --init none --sequence '" + sequence + "' --out '" + out.path() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(out.file("summary.json"));
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["frames"], 250);
+  EXPECT_EQ(summary["tracked"].get<int>() + summary["lost"].get<int>(), 250);
+  EXPECT_GE(summary["tracked"].get<int>(), 0.15 * 250);
+  EXPECT_EQ(summary["alignment"], "sim3");
+  EXPECT_GT(summary["scale"].get<double>(), 0.0);
+  EXPECT_LE(summary["ate"]["trans"]["rmse"].get<double>(), 0.03);
+  EXPECT_TRUE(summary.contains("nees"));
+  // Never a made-up pose: trajectory.txt holds exactly the posed frames.
+  EXPECT_EQ(readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum).size(), summary["tracked"].get<size_t>());
 }
 
 // Without a board in view the tracker waits, says why, and never reports a pose.
@@ -223,6 +293,9 @@ TEST(MonoslamTracker, RefusesContextsItCannotWorkWith) {
   context.target = ChessboardTarget{9, 6, 0.04};
   context.init = InitSource::Manual;
   EXPECT_THROW(MonoslamTracker(context, MonoslamOptions{}), InputError);  // manual without a pose
+  context.target.reset();
+  context.init = InitSource::None;
+  EXPECT_NO_THROW(MonoslamTracker(context, MonoslamOptions{}));  // board-free: no target needed
 }
 
 }  // namespace

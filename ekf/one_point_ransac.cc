@@ -1,0 +1,66 @@
+#include "ekf/one_point_ransac.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/LU>
+
+#include "ekf/joint_compatibility.h"
+
+namespace slamcmp {
+
+std::vector<size_t> lowInnovationInliers(const EkfState& state, const std::vector<PointObservation>& observations,
+                                         const ObservationPredictor& predict, const OnePointRansacOptions& options,
+                                         double pixel_sigma, std::mt19937& rng) {
+  const size_t m = observations.size();
+  std::vector<size_t> best;
+  if (m == 0) return best;
+  std::uniform_int_distribution<size_t> pick(0, m - 1);
+  double hypotheses = options.max_hypotheses;
+  for (int i = 0; i < hypotheses; ++i) {
+    // The hypothesis: the state after the one match alone (q renormalised), every match predicted from it.
+    Eigen::VectorXd x = state.x() + stateCorrection(state, observations[pick(rng)], pixel_sigma);
+    x.segment<4>(EkfState::kQ).normalize();
+    std::vector<size_t> support;
+    for (size_t k = 0; k < m; ++k) {
+      PointMeasurement h;
+      if (predict(x, k, &h) && (observations[k].z - h.uv_distorted).norm() < options.inlier_pixels)
+        support.push_back(k);
+    }
+    if (support.size() <= best.size()) continue;
+    best = std::move(support);
+    // As many hypotheses as give an all-inlier draw with `probability`.
+    const double w = static_cast<double>(best.size()) / m;
+    hypotheses = w >= 1 ? 0 : std::min<double>(options.max_hypotheses, std::log(1 - options.probability) / std::log(1 - w));
+  }
+  return best;
+}
+
+std::vector<size_t> onePointRansacUpdate(EkfState& state, const std::vector<PointObservation>& observations,
+                                         const ObservationPredictor& predict, const OnePointRansacOptions& options,
+                                         double pixel_sigma, std::mt19937& rng) {
+  std::vector<size_t> used = lowInnovationInliers(state, observations, predict, options, pixel_sigma, rng);
+  std::vector<PointObservation> low;
+  for (size_t k : used) low.push_back(observations[k]);
+  if (low.empty() || !batchUpdate(state, low, pixel_sigma)) return {};
+  // High-innovation inliers: the remaining matches against the updated prediction and its covariance.
+  const double gate = chiSquaredQuantile(2, options.rescue_gate);
+  std::vector<PointObservation> rescued;
+  std::vector<size_t> rescued_index;
+  for (size_t k = 0; k < observations.size(); ++k) {
+    if (std::binary_search(used.begin(), used.end(), k)) continue;
+    PointObservation o = observations[k];
+    if (!predict(state.x(), k, &o.h)) continue;
+    const Vec2 nu = o.z - o.h.uv_distorted;
+    if (nu.dot(pointInnovationCovariance(state, o.h, o.offset, pixel_sigma).inverse() * nu) > gate) continue;
+    rescued.push_back(o);
+    rescued_index.push_back(k);
+  }
+  if (!rescued.empty() && batchUpdate(state, rescued, pixel_sigma)) {
+    used.insert(used.end(), rescued_index.begin(), rescued_index.end());
+    std::sort(used.begin(), used.end());
+  }
+  return used;
+}
+
+}  // namespace slamcmp

@@ -1,0 +1,47 @@
+// The pose NEES of a scale-free run after its Sim(3) alignment (issue 18): the same poses and
+// covariances expressed in an arbitrary frame at an arbitrary scale score exactly as they do in
+// the ground truth's frame once the alignment is applied to both.
+#include "eval/metrics/nees.h"
+
+#include <gtest/gtest.h>
+
+namespace slamcmp {
+namespace {
+
+TEST(Nees, Sim3AlignmentAppliesToPosesAndCovariances) {
+  Trajectory groundtruth;
+  std::vector<CovariantPose> in_gt_frame, in_own_frame;
+  Similarity3 T_gt_estimate;  // estimate frame -> ground-truth frame
+  T_gt_estimate.R = rotationFromRotvec(Vec3(0.3, -0.2, 0.9));
+  T_gt_estimate.t = Vec3(1.0, -2.0, 0.5);
+  T_gt_estimate.scale = 0.25;
+  for (int i = 0; i < 20; ++i) {
+    const double t = 0.1 * i;
+    const SE3 T_world_camera = SE3::fromRotvec(Vec3(0.1 * i, 0.02 * i, -0.05), Vec3(0.1 * i, 0.3, -0.02 * i));
+    groundtruth.push_back({t, T_world_camera});
+    // The estimate: off by a known error, with a covariance (both in the ground truth's frame).
+    const SE3 T_est = SE3(rotationFromRotvec(Vec3(0.01, -0.02, 0.005 * i)) * T_world_camera.R(),
+                          T_world_camera.t() + Vec3(0.01, -0.005 * i, 0.02));
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Random() * 0.01;
+    const PoseCovariance P = A * A.transpose() + 1e-4 * PoseCovariance::Identity();
+    in_gt_frame.push_back({t, T_est, P});
+    // The same in the estimate's own frame: p = (R^T (p_gt - t)) / s, R_own = R^T R_gt.
+    Eigen::Matrix<double, 6, 6> G_inv = Eigen::Matrix<double, 6, 6>::Zero();
+    G_inv.topLeftCorner<3, 3>() = T_gt_estimate.R.transpose() / T_gt_estimate.scale;
+    G_inv.bottomRightCorner<3, 3>() = T_gt_estimate.R.transpose();
+    in_own_frame.push_back({t,
+                            SE3(T_gt_estimate.R.transpose() * T_est.R(),
+                                T_gt_estimate.R.transpose() * (T_est.t() - T_gt_estimate.t) / T_gt_estimate.scale),
+                            G_inv * P * G_inv.transpose()});
+  }
+  const auto expected = poseNees(groundtruth, in_gt_frame, 0.01);
+  const auto aligned = poseNees(groundtruth, in_own_frame, 0.01, T_gt_estimate);
+  const auto unaligned = poseNees(groundtruth, in_own_frame, 0.01);
+  ASSERT_TRUE(expected && aligned && unaligned);
+  EXPECT_EQ(aligned->frames, 20);
+  EXPECT_NEAR(aligned->mean, expected->mean, 1e-9 * expected->mean);
+  EXPECT_GT(unaligned->mean, 100 * expected->mean);  // without the alignment the score is meaningless
+}
+
+}  // namespace
+}  // namespace slamcmp
