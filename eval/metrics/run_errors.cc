@@ -13,6 +13,9 @@ std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajec
   r.ate_rot_rmse_deg = e.ate_rot_deg_stats.rmse;
   r.rpe_trans_rmse = e.rpe_trans_stats.rmse;
   r.rpe_rot_rmse_deg = e.rpe_rot_deg_stats.rmse;
+  r.align = e.align;
+  r.scale = e.T_gt_estimate.scale;
+  r.drift = e.drift;
   r.json = evaluationToJson(e, options);
   return r;
 }
