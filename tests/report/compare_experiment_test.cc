@@ -172,6 +172,26 @@ TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
   }
 }
 
+// Bad usage of the plan options: one line naming what is wrong, exit 2, nothing written.
+TEST(CompareExperiment, PlanAndCollectUsageErrors) {
+  TempDir tmp;
+  const auto no_plan = test::runSlamcmp("compare --collect " + tmp.path());
+  EXPECT_EQ(no_plan.exit_code, 2);
+  EXPECT_EQ(std::count(no_plan.err.begin(), no_plan.err.end(), '\n'), 1) << no_plan.err;
+  EXPECT_NE(no_plan.err.find(tmp.file("plan.json")), std::string::npos) << no_plan.err;
+  test::writeText(tmp.file("plan.json"), "{\"slamcmp_plan\": 1, \"sequences\": 3}");
+  const auto bad_plan = test::runSlamcmp("compare --collect " + tmp.path());
+  EXPECT_EQ(bad_plan.exit_code, 2) << bad_plan.err;
+  EXPECT_NE(bad_plan.err.find("plan.json: malformed plan"), std::string::npos) << bad_plan.err;
+  const auto both = test::runSlamcmp("compare --sequence " + tmp.path() + " --plan " + tmp.file("p") + " --out " +
+                                     tmp.file("o"));
+  EXPECT_EQ(both.exit_code, 2) << both.err;
+  EXPECT_FALSE(fs::exists(tmp.file("p")));
+  const auto trials = test::runSlamcmp("compare --sequence " + tmp.path() + " --trials 0 --out " + tmp.file("o"));
+  EXPECT_EQ(trials.exit_code, 2) << trials.err;
+  EXPECT_NE(trials.err.find("--trials"), std::string::npos) << trials.err;
+}
+
 // --plan writes a self-contained command a line and a Slurm array over them; the runs made from
 // jobs.txt by a shell (or anything else) and collected give the tables a direct compare gives on
 // the same run outputs, byte for byte; and a collect of a direct compare's folder rewrites its
