@@ -99,8 +99,8 @@ PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estim
       throw InputError("", std::string("time units differ: the ") + (estimate_larger ? "estimate's" : "ground truth's") +
                                " timestamps are " + number(estimate_larger ? factor : 1 / factor) + " times the " +
                                (estimate_larger ? "ground truth's" : "estimate's") + " (" + unitPair(factor) +
-                               "?; ground truth times " + range(t_gt) + ", estimate times " + range(t_est) +
-                               "): convert one file");
+                               "?): ground truth times " + range(t_gt) + ", estimate times " + range(t_est) +
+                               "; convert one file");
     }
     if (t_est.back() < t_gt.front() || t_gt.back() < t_est.front())
       throw InputError("", "no time overlap: ground truth times " + range(t_gt) + " s, estimate times " +
