@@ -35,6 +35,8 @@ class BackendOptions {
   // One `--set` override: path as in the YAML ("features.max_features").
   virtual void set(const std::string& path, const std::string& value, const std::string& where) = 0;
   virtual void check(const std::string& where) const = 0;  // InputError naming where.field
+  // Every random seed (the options called "seed") set to `seed`; returns how many were set.
+  virtual int setSeeds(int seed) = 0;
   virtual nlohmann::json toJson() const = 0;
   virtual std::string describe() const = 0;  // commented YAML with the defaults
 };
@@ -54,6 +56,7 @@ class TypedBackendOptions : public BackendOptions {
     setOption(path, text, where, value);
   }
   void check(const std::string& where) const override { checkOptions(value, where); }
+  int setSeeds(int seed) override { return slamcmp::setSeeds(seed, value); }
   nlohmann::json toJson() const override { return optionsToJson(value); }
   std::string describe() const override { return describeOptions(value); }
 };

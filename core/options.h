@@ -168,6 +168,24 @@ struct JsonWriter {
   }
 };
 
+// Sets every integer field called "seed", at any depth: a back-end's random seeds (RANSAC's, the
+// EKF's new-feature boxes) are the options it names so, whatever their section.
+struct SeedSetter {
+  int seed;
+  int count = 0;
+  template <class T>
+  void operator()(const char* key, T& value, const char* /*doc*/) {
+    if constexpr (IsOptionsStruct<T>::value) {
+      value.visit(*this);
+    } else if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+      if (std::string(key) == "seed") {
+        value = static_cast<T>(seed);
+        ++count;
+      }
+    }
+  }
+};
+
 struct Describer {
   std::string& out;
   std::string indent;
@@ -210,6 +228,14 @@ void setOption(const std::string& path, const std::string& text, const std::stri
   options_detail::Setter setter{path, text, field};
   options.visit(setter);
   if (!setter.found) throw InputError(field, "unknown option");
+}
+
+// `run --seed N`: every option called "seed" set to N; returns how many there are.
+template <class Options>
+int setSeeds(int seed, Options& options) {
+  options_detail::SeedSetter setter{seed};
+  options.visit(setter);
+  return setter.count;
 }
 
 // readOptions then checkOptions.

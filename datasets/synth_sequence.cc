@@ -46,6 +46,32 @@ void writeTextFile(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
+std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir) {
+  const fs::path info = fs::path(sequence_dir) / "info.yaml";
+  std::error_code ec;
+  if (!fs::is_regular_file(info, ec)) return std::nullopt;
+  // info.yaml is YAML without OpenCV's "%YAML:1.0" first line (a comment says what it is): read
+  // from memory with the line added.
+  std::ifstream in(info);
+  std::stringstream text;
+  text << "%YAML:1.0\n---\n" << in.rdbuf();
+  cv::FileStorage fs;
+  try {
+    fs.open(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  } catch (const cv::Exception& e) {
+    throw InputError(info.string(), "is not YAML: " + e.msg);
+  }
+  if (!fs.isOpened()) throw InputError(info.string(), "cannot be read");
+  SynthOptions options;
+  readOptions(fs.root(), info.string(), options);
+  try {
+    options.check();
+  } catch (const InputError& e) {
+    throw InputError(info.string(), e.what());
+  }
+  return options;
+}
+
 void writeSyntheticSequence(const SynthOptions& options, const std::string& out_dir) {
   options.check();
   const fs::path out(out_dir);

@@ -2,6 +2,7 @@
 // `slamcmp synth`: renders a preset into a sequence folder (SPEC section 3): rgb/NNNNNN.png,
 // rgb.txt, camera.yaml, target.yaml, groundtruth.txt (exact T_world_camera), scene.yaml (the true
 // surfaces) and info.yaml (the options used).
+#include <optional>
 #include <string>
 
 #include "datasets/camera_motion.h"
@@ -32,6 +33,10 @@ struct SynthOptions {
   void check() const;  // InputError naming the option
   int frameCount() const;  // frames, or the preset's length
 };
+
+// The options a sequence folder was rendered with (its info.yaml), or nothing when it has none (not
+// a synthetic sequence). Throws InputError naming the file and field for a malformed info.yaml.
+std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir);
 
 // Renders the sequence into out_dir (created if needed; existing files are overwritten). Shows
 // progress on a terminal. Throws InputError if out_dir cannot be written.

@@ -79,6 +79,7 @@ struct FeatureInitOptions {
   int box_width = 80;              // pixels, the image box searched for a new corner
   int box_height = 60;             // pixels
   double min_corner_eigenvalue = 0.002;  // Shi-Tomasi minimum eigenvalue (OpenCV scale, 3x3 block)
+  int seed = 0;                    // the boxes are drawn at random from this seed (repeatable runs)
   template <class V>
   void visit(V& v) {
     v("particles", particles, "depth hypotheses along a new feature's ray");
@@ -93,6 +94,7 @@ struct FeatureInitOptions {
     v("box_width", box_width, "pixels, width of the box searched for a new corner");
     v("box_height", box_height, "pixels, height of the box searched for a new corner");
     v("min_corner_eigenvalue", min_corner_eigenvalue, "Shi-Tomasi minimum eigenvalue (OpenCV scale)");
+    v("seed", seed, "random seed of the boxes searched for new corners (runs are repeatable)");
   }
   void check() const;
 };

@@ -98,7 +98,7 @@ class EkfSlam {
   EkfState state_;
   std::vector<MapFeature> features_;
   int next_id_ = 0;
-  std::mt19937 rng_{0};
+  std::mt19937 rng_{static_cast<std::mt19937::result_type>(options_.feature_init.seed)};
 };
 
 }  // namespace slamcmp

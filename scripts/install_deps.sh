@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(build-essential cmake pkg-config
           libopencv-dev libopencv-contrib-dev libeigen3-dev
           libcli11-dev nlohmann-json3-dev libfmt-dev libyaml-dev
-          libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox)
+          libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+          parallel)  # GNU parallel: `parallel < jobs.txt` of compare --plan, and its test
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -59,7 +59,7 @@ std::string backendsHelp() {
 }
 
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
-                                                   const std::vector<std::string>& sets) {
+                                                   const std::vector<std::string>& sets, std::optional<int> seed) {
   std::unique_ptr<BackendOptions> options = backend.default_options();
   std::string where = backend.name;
   if (!config_path.empty()) {
@@ -69,6 +69,8 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
     where = config_path + ": " + backend.name;
     options->read(config.node(backend.name), where);
   }
+  if (seed && options->setSeeds(*seed) == 0)
+    throw InputError("--seed", backend.name + " has no random seed (no option called seed)");
   for (const std::string& set : sets) {
     const auto eq = set.find('=');
     const auto dot = set.find('.');

@@ -1,6 +1,7 @@
 #pragma once
 // The registered back-ends (core/backend_registry.h): the one list that names them.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,9 +26,11 @@ const BackendMode& findMode(const BackendRegistration& backend, const std::strin
 std::string backendsHelp();
 
 // The back-end's options: defaults, then its section of the YAML file `config_path` ("" = none),
-// then each `--set section.key=value` naming this back-end, checked. A top-level section of the
-// file that names no back-end, or a --set for another back-end, is an InputError.
+// then every random seed set to `seed` when given (run --seed), then each `--set section.key=value`
+// naming this back-end, checked. A top-level section of the file that names no back-end, a --set
+// for another back-end, or a seed for a back-end without one is an InputError.
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
-                                                   const std::vector<std::string>& sets);
+                                                   const std::vector<std::string>& sets,
+                                                   std::optional<int> seed = std::nullopt);
 
 }  // namespace slamcmp

@@ -31,9 +31,9 @@ void printRow(const char* name, const Statistics& s) {
 }
 
 void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
-  std::printf("%zu pose pairs (max-diff %g s), alignment %s", e.pairs.size(),
-              request.options.max_diff, e.align.c_str());
-  if (e.align == "sim3") std::printf(", scale %.6f", e.T_gt_estimate.scale);
+  // The alignment and its scale always (1 unless sim3): an unclear scale is a frequent surprise.
+  std::printf("%zu pose pairs (max-diff %g s), alignment %s, scale %.6f", e.pairs.size(),
+              request.options.max_diff, e.align.c_str(), e.T_gt_estimate.scale);
   std::printf("; RPE over %d frame%s, %zu pairs\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
               e.rpe_trans.size());
   std::printf("%-15s %11s %11s %11s %11s %11s %11s\n", "", "rmse", "mean", "median", "std", "min",
@@ -44,6 +44,12 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
   printRow("RPE rot (deg)", e.rpe_rot_deg_stats);
   std::printf("ATE rmse per axis (m): x %.6f  y %.6f  z %.6f\n", e.ate_axis_rmse.x(),
               e.ate_axis_rmse.y(), e.ate_axis_rmse.z());
+  if (e.drift) {
+    std::printf("drift (KITTI devkit, %d segments of %s over a %.3f m path):", e.drift->segments,
+                e.drift->kitti_lengths ? "100..800 m" : "0.1..0.8 of the path", e.drift->path_m);
+    for (const DriftAtLength& at : e.drift->lengths) std::printf(" %.3g", at.length_m);
+    std::printf(" m; %.4f %% translation, %.4f deg/m rotation\n", e.drift->trans_percent, e.drift->rot_deg_per_m);
+  }
 }
 
 void printMapTable(const MapErrorStats& s, const EvalRequest& request) {

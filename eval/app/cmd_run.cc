@@ -21,6 +21,11 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--set", request->sets,
                   "override one option: SECTION.KEY=VALUE with the YAML's path, e.g. "
                   "cslam.features.max_features=200 (repeatable)");
+  auto seed = std::make_shared<int>(0);
+  auto* seed_option = cmd->add_option("--seed", *seed,
+                                      "every random seed of the back-end (RANSAC, new features' boxes) set to N, "
+                                      "before --set (default: the back-end's own)")
+                          ->check(CLI::Range(0, std::numeric_limits<int>::max()));
   cmd->add_option("--camera", request->camera_path, "camera.yaml (overrides the sequence's)")->check(nonEmptyPath());
   cmd->add_option("--target", request->target_path, "target.yaml (overrides the sequence's)")->check(nonEmptyPath());
   cmd->add_option("--max-frames", request->max_frames, "stop after N frames")
@@ -34,8 +39,9 @@ void addRunCommand(CLI::App& app) {
                   "a folder of PNGs, with overlay.csv listing the drawn positions")->check(nonEmptyPath());
   cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");
   cmd->footer(backendsHelp());
-  cmd->callback([request] {
+  cmd->callback([request, seed, seed_option] {
     installInterruptHandler();
+    if (seed_option->count() > 0) request->seed = *seed;
     const nlohmann::json summary = runSequence(*request);
     std::cout << summary["backend"].get<std::string>() << ": " << summary["tracked"] << "/"
               << summary["frames"] << " frames tracked, median "

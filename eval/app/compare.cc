@@ -1,19 +1,15 @@
 #include "eval/app/compare.h"
 
-#include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <filesystem>
-#include <mutex>
+#include <fstream>
+#include <map>
 #include <sstream>
-#include <thread>
-
-#include <opencv2/core/utility.hpp>
 
 #include "core/error.h"
-#include "core/progress.h"
 #include "eval/app/backends.h"
-#include "eval/app/run_sequence.h"
+#include "eval/app/compare_plan.h"
+#include "eval/app/job_runner.h"
+#include "eval/report/experiment_plan.h"
 
 namespace fs = std::filesystem;
 
@@ -58,92 +54,98 @@ std::vector<Method> parseMethods(const std::string& list) {
 
 namespace {
 
-void runAll(const CompareOptions& options, const std::vector<SequenceInfo>& seqs,
-            std::vector<std::vector<RunResult>>* results) {
-  struct Job {
-    size_t seq, method;
-  };
-  std::vector<Job> jobs;
-  long total_frames = 0;
-  for (size_t s = 0; s < seqs.size(); ++s)
-    for (size_t m = 0; m < options.methods.size(); ++m) {
-      jobs.push_back({s, m});
-      total_frames += options.max_frames >= 0 ? std::min(options.max_frames, seqs[s].frames) : seqs[s].frames;
-    }
-  results->assign(seqs.size(), std::vector<RunResult>(options.methods.size()));
-
-  // Each run on one core: runs at once take the cores, and ms per frame mean one core.
-  cv::setNumThreads(1);
-  std::atomic<size_t> next{0};
-  std::atomic<long> frames_done{0};
-  std::atomic<int> workers_left{std::max(1, std::min<int>(options.jobs, static_cast<int>(jobs.size())))};
-  std::mutex mutex;
-  auto worker = [&] {
-    for (size_t j; (j = next++) < jobs.size();) {
-      const SequenceInfo& seq = seqs[jobs[j].seq];
-      const Method& method = options.methods[jobs[j].method];
-      RunRequest req;
-      req.backend = method.backend;
-      req.mode = method.mode;
-      req.sequence_path = seq.path;
-      req.out_dir = options.out_dir + "/runs/" + seq.name + "-" + method.slug();
-      req.max_frames = options.max_frames;
-      req.progress = false;
-      req.on_frame = [&] { ++frames_done; };
-      RunResult r;
-      try {
-        runSequence(req);
-        r = loadRun(method, req.out_dir, seq);
-      } catch (const std::exception& e) {
-        r.method = method;
-        r.dir = req.out_dir;
-        r.error = e.what();
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      (*results)[jobs[j].seq][jobs[j].method] = std::move(r);
-    }
-    --workers_left;
-  };
-  std::vector<std::thread> threads;
-  const int n_workers = workers_left;
-  for (int i = 0; i < n_workers; ++i) threads.emplace_back(worker);
-  Progress progress("compare", static_cast<int>(total_frames));
-  while (workers_left > 0 && !interrupted()) {
-    progress.update(static_cast<int>(frames_done), std::to_string(std::min(next.load(), jobs.size())) + "/" +
-                                                        std::to_string(jobs.size()) + " runs");
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  for (auto& t : threads) t.join();
-  progress.finish();
-  cv::setNumThreads(-1);
+// The run's last line in its log, the way `slamcmp run` said why it stopped ("" if none).
+std::string lastLogLine(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty() && line.find('\r') == std::string::npos) last = line;
+  const std::string prefix = "slamcmp: ";
+  return last.compare(0, prefix.size(), prefix) == 0 ? last.substr(prefix.size()) : last;
 }
+
+// One planned run read back: finished (ok), interrupted (summary.json says so), failed (its log's
+// last line) or not run (no log).
+RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::string& dir, const SequenceInfo& seq) {
+  const Method& method = plan.methods[planned.method];
+  const std::string run_dir = (fs::path(dir) / planned.dir).string();
+  RunResult r;
+  std::error_code ec;
+  if (fs::exists(fs::path(run_dir) / "summary.json", ec)) {
+    try {
+      r = loadRun(method, run_dir, seq);
+      if (r.summary.value("interrupted", false)) {
+        r.status = "interrupted";
+        r.error = "stopped after " + std::to_string(r.summary.value("frames", 0)) + " frames";
+      }
+    } catch (const std::exception& e) {  // a run whose files cannot be read or scored
+      r = RunResult();
+      r.status = "failed";
+      r.error = e.what();
+    }
+  } else if (fs::exists(fs::path(dir) / planned.log, ec)) {
+    r.status = "failed";
+    r.error = lastLogLine((fs::path(dir) / planned.log).string());
+    if (r.error.empty()) r.error = "no summary.json and nothing in its log (killed?)";
+  } else {
+    r.status = "not run";
+  }
+  r.method = method;
+  r.dir = planned.dir;
+  r.trial = planned.trial;
+  r.sequence = &seq;
+  return r;
+}
+
+std::string absoluteDir(const std::string& dir) { return fs::absolute(dir).lexically_normal().string(); }
 
 }  // namespace
 
-std::string runCompare(const CompareOptions& options) {
-  if (options.sequences.empty()) throw InputError("--sequence", "give at least one sequence");
-  if (options.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
-  std::vector<SequenceInfo> seqs;
-  for (const auto& path : options.sequences) {
-    SequenceInfo info = readSequenceInfo(path);
-    for (const auto& other : seqs)
-      if (other.name == info.name) throw InputError(path, "two sequences are named '" + info.name + "'");
-    seqs.push_back(std::move(info));
+size_t planCompare(const CompareOptions& options) {
+  const Plan plan = makePlan(options);
+  writePlanFiles(plan, absoluteDir(options.out_dir));
+  return plan.runs.size();
+}
+
+std::string collectCompare(const std::string& dir_given, int* unfinished) {
+  const std::string dir = absoluteDir(dir_given);
+  const std::string plan_path = dir + "/plan.json";
+  std::ifstream in(plan_path);
+  if (!in) throw InputError(plan_path, "missing: --collect takes the folder that compare --plan wrote");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(plan_path, std::string("not JSON: ") + e.what());
   }
-  std::error_code ec;
-  fs::create_directories(options.out_dir + "/figures", ec);
-  if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());
+  const Plan plan = planFromJson(j, plan_path);
+  std::vector<SequenceInfo> seqs;
+  for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(path));
+  std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene
+  std::vector<RunResult> runs;
+  int not_finished = 0;
+  for (const PlannedRun& planned : plan.runs) {
+    auto it = trial_seqs.find(planned.sequence_path);
+    if (it == trial_seqs.end()) it = trial_seqs.emplace(planned.sequence_path, readSequenceInfo(planned.sequence_path)).first;
+    runs.push_back(collectRun(plan, planned, dir, it->second));
+    if (runs.back().status != "ok") ++not_finished;
+  }
+  fs::create_directories(dir + "/figures");
+  if (unfinished) *unfinished = not_finished;
+  return writeCompareReport(plan, seqs, runs, dir);
+}
 
-  std::vector<std::vector<RunResult>> results;
-  runAll(options, seqs, &results);
-
-  std::ostringstream preamble;
-  preamble << "Methods: ";
-  for (size_t m = 0; m < options.methods.size(); ++m)
-    preamble << (m ? ", " : "") << "`" << options.methods[m].label() << "`";
-  preamble << ". Each run on one core (" << std::max(1, options.jobs) << " runs at once on "
-           << std::thread::hardware_concurrency() << " cores); ms per frame exclude image decoding.";
-  return writeCompareReport(seqs, options.methods, results, options.max_frames, preamble.str(), options.out_dir);
+std::string runCompare(const CompareOptions& options) {
+  const Plan plan = makePlan(options);
+  const std::string dir = absoluteDir(options.out_dir);
+  writePlanFiles(plan, dir);
+  const bool finished = runPlannedJobs(plan, dir, options.jobs);
+  int unfinished = 0;
+  const std::string report = collectCompare(dir, &unfinished);
+  if (!finished)
+    throw CompareInterrupted("interrupted: " + report + " marks the " + std::to_string(unfinished) +
+                             " runs not finished");
+  return report;
 }
 
 }  // namespace slamcmp

@@ -1,6 +1,9 @@
 #pragma once
-// `compare` and `reproduce`: several back-ends (and their modes) on several sequences, in
-// parallel, then the report (eval/report/compare_report.h).
+// `compare` and `reproduce`: several back-ends (and their modes, and settings of their options) on
+// several sequences, several trials each. A compare is a plan of runs (compare_plan.h), the runs
+// (each one `slamcmp run` process: job_runner.h, GNU parallel or Slurm) and the report collected
+// from their folders (eval/report/compare_collect.h); locally the three follow each other.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,11 +26,32 @@ struct CompareOptions {
   std::string out_dir;
   int jobs = 2;         // runs at once
   int max_frames = -1;  // per run; < 0: all
+  int trials = 1;       // > 1: trial k re-renders a synthetic sequence with seed k, or runs a real one with --seed k
+  std::vector<std::string> sets;  // "SECTION.KEY=V1,V2,...": a sweep; several make a grid per back-end
+  std::string slamcmp;  // the binary the runs execute; "" = this process's own (tests give slamcmp's)
 };
 
-// Runs everything, writes <out>/report.md, <out>/*.csv, <out>/figures/*.png and <out>/runs/.
-// Returns the report's path. A run that fails is reported in the tables, not fatal; a sequence
-// that cannot be opened is an InputError before anything runs.
+// A compare stopped by Ctrl-C, SIGTERM or SIGHUP: its report is written and marks the runs not
+// finished; main exits 130.
+class CompareInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Plans, runs every run (options.jobs at once, each a `slamcmp run` process) and collects: writes
+// <out>/plan.json, jobs.txt, slurm.sbatch, runs/, logs/, results.csv, report.md, the tables'
+// CSVs and figures/. Returns the report's path. A run that fails is reported in the tables, not
+// fatal; bad options or a sequence that cannot be opened are InputErrors before anything runs.
+// Throws CompareInterrupted (after writing the report) when interrupted.
 std::string runCompare(const CompareOptions& options);
+
+// compare --plan: writes <out>/plan.json, jobs.txt (one `slamcmp run` a line) and slurm.sbatch
+// (an array job over jobs.txt), rendering the trials' synthetic sequences; runs nothing. Returns
+// the number of runs.
+size_t planCompare(const CompareOptions& options);
+
+// compare --collect DIR: the report from a plan's finished runs, exactly as runCompare writes it.
+// Returns the report's path; `unfinished` (if given) receives the number of runs not finished.
+std::string collectCompare(const std::string& dir, int* unfinished = nullptr);
 
 }  // namespace slamcmp

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "eval/app/commands.h"
+#include "eval/app/compare.h"
 
 int main(int argc, char** argv) {
   // OpenCV's own messages (e.g. from a broken image) must not interleave with ours.
@@ -42,6 +43,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
     return 2;
+  } catch (const slamcmp::CompareInterrupted& e) {
+    std::cerr << "slamcmp: " << e.what() << "\n";
+    return 130;  // as a shell reports a command stopped by Ctrl-C
   } catch (const slamcmp::InputError& e) {
     std::cerr << "slamcmp: " << e.what() << "\n";
     return 2;

@@ -104,7 +104,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     throw InputError("--init", backend.name + " takes no --init (its world frame and start come from the board)");
   }
   context.want_overlay = !request.overlay_path.empty() || request.show;
-  const std::unique_ptr<BackendOptions> options = loadBackendOptions(backend, request.config_path, request.sets);
+  const std::unique_ptr<BackendOptions> options = loadBackendOptions(backend, request.config_path, request.sets, request.seed);
   std::unique_ptr<Tracker> tracker = backend.make(context, *options);
   // Created once the options and the back-end are known good: a bad --config leaves no video behind.
   std::optional<OverlayOutput> overlay;

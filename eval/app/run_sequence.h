@@ -2,6 +2,7 @@
 // One back-end on one sequence: open, track every frame, record (SPEC section 4 outputs).
 // Shared by `slamcmp run`, `compare` and `reproduce`.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct RunRequest {
   std::string out_dir;        // "" = runs/<sequence>-<backend>[-<mode>]
   std::string config_path;    // YAML with one section per back-end; "" = defaults
   std::vector<std::string> sets;  // --set section.key=value overrides of the config
+  std::optional<int> seed;        // --seed: every random seed of the back-end ("" = its defaults)
   std::string camera_path;    // overrides camera.yaml
   std::string target_path;    // overrides target.yaml
   int max_frames = -1;        // < 0: all

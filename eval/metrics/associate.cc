@@ -45,6 +45,28 @@ std::string number(double x) {
   return buf;
 }
 
+// The factor 10^(3k), k != 0, that the estimate's times are of the ground truth's when both their
+// last times and their spans differ by it (within a factor 2.8): one file in s, the other in ms, us
+// or ns. 0 when they do not.
+double unitFactor(const std::vector<double>& t_gt, const std::vector<double>& t_est) {
+  const auto ratioExponent = [](double a, double b) {  // log10(a / b), NaN unless both are positive
+    return a > 0 && b > 0 ? std::log10(a / b) : NAN;
+  };
+  const double end = ratioExponent(std::abs(t_est.back()), std::abs(t_gt.back()));
+  const double span = ratioExponent(t_est.back() - t_est.front(), t_gt.back() - t_gt.front());
+  for (int k : {-3, -2, -1, 1, 2, 3})
+    if (std::abs(end - 3 * k) < 0.45 && (!std::isfinite(span) || std::abs(span - 3 * k) < 0.45))
+      return std::pow(10.0, 3 * k);
+  return 0;
+}
+
+const char* unitPair(double factor) {  // the usual reading of a factor between the two files
+  const double k = std::round(std::log10(factor) / 3);
+  if (std::abs(k) == 3) return "ns against s";
+  if (std::abs(k) == 2) return "us against s (or ns against ms)";
+  return "ms against s (or ns against us)";
+}
+
 }  // namespace
 
 PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estimate,
@@ -68,6 +90,26 @@ PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estim
       index_short.push_back(i);
       index_long.push_back(j);
     }
+  }
+  // Pairs found by chance across a unit mismatch (s against ms both start near 0) or none at all:
+  // say why, with the factor, before an alignment or an RPE complains of too few pairs.
+  if (2 * pairs.size() < t_short.size()) {
+    if (const double factor = unitFactor(t_gt, t_est); factor != 0) {
+      const bool estimate_larger = factor > 1;
+      throw InputError("", std::string("time units differ: the ") + (estimate_larger ? "estimate's" : "ground truth's") +
+                               " timestamps are " + number(estimate_larger ? factor : 1 / factor) + " times the " +
+                               (estimate_larger ? "ground truth's" : "estimate's") + " (" + unitPair(factor) +
+                               "?): ground truth times " + range(t_gt) + ", estimate times " + range(t_est) +
+                               "; convert one file");
+    }
+    if (t_est.back() < t_gt.front() || t_gt.back() < t_est.front())
+      throw InputError("", "no time overlap: ground truth times " + range(t_gt) + " s, estimate times " +
+                               range(t_est) + " s (the estimate " +
+                               (t_est.back() < t_gt.front() ? "ends " + number(t_gt.front() - t_est.back()) +
+                                                                  " s before the ground truth starts"
+                                                            : "starts " + number(t_est.front() - t_gt.back()) +
+                                                                  " s after the ground truth ends") +
+                               "; do the clocks differ? --max-diff " + number(max_diff) + " s pairs only nearer poses)");
   }
   if (pairs.size() == 0)
     throw InputError("", "no estimate pose is within --max-diff " + number(max_diff) +

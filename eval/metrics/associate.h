@@ -19,9 +19,10 @@ struct PosePairs {
 // pose of the other nearest in time (the earlier one on a tie), kept if |dt| <= max_diff seconds.
 // Pairs follow the shorter trajectory's order; a pose of the longer one may serve twice.
 // Repeated timestamps are allowed (published ground truth has some; the first of equally near
-// poses wins). Throws InputError when a timestamp goes back in time, or when no pair is found: the
-// message gives both time ranges and the usual causes (ns against s timestamps, a too small
-// --max-diff).
+// poses wins). Throws InputError when a timestamp goes back in time; when fewer than half the
+// shorter trajectory's poses pair up and the two files' times differ by a factor 1e3, 1e6 or 1e9
+// (one in s, the other in ms, us or ns: the message gives the factor) or do not overlap at all
+// (the message gives by how much); or when no pair is found (both time ranges, the usual causes).
 PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estimate,
                           double max_diff);
 

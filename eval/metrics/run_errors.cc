@@ -18,6 +18,7 @@ std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajec
   r.ate_rot_rmse_deg = e.ate_rot_deg_stats.rmse;
   r.rpe_trans_rmse = e.rpe_trans_stats.rmse;
   r.rpe_rot_rmse_deg = e.rpe_rot_deg_stats.rmse;
+  r.drift = e.drift;
   r.json = evaluationToJson(e, options);
   return r;
 }

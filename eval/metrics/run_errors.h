@@ -4,11 +4,13 @@
 // Sim(3) for a scale-free run (`--init none`: its world frame is its first camera's, its unit
 // arbitrary); RPE over 1 frame, timestamps associated within 10 ms.
 #include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "core/trajectory.h"
 #include "eval/metrics/align_umeyama.h"
+#include "eval/metrics/segment_drift.h"
 
 namespace slamcmp {
 
@@ -19,6 +21,7 @@ struct RunErrors {
   double rpe_rot_rmse_deg = 0;  // degrees, per frame
   std::string align = "none";   // none | sim3
   Similarity3 T_gt_estimate;    // the alignment applied (its scale: ground-truth metres per estimate unit)
+  std::optional<SegmentDrift> drift;  // KITTI devkit drift, when a segment fits
   nlohmann::json json;          // the `slamcmp eval --json` object
 };
 

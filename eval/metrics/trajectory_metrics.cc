@@ -91,6 +91,12 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   out.rpe_axis_rmse = axisRms(rpe_offsets);
   out.rpe_trans_stats = computeStatistics(out.rpe_trans);
   out.rpe_rot_deg_stats = computeStatistics(out.rpe_rot_deg);
+
+  // Every ground-truth pose from the first matched one to the last: the path the run covered.
+  std::vector<SE3> T_world_gt_covered;
+  for (size_t i = out.pairs.groundtruth.front(); i <= out.pairs.groundtruth.back() && i < groundtruth.size(); ++i)
+    T_world_gt_covered.push_back(groundtruth[i].T_world_camera);
+  out.drift = segmentDrift(T_world_gt, T_world_est, pathLength(T_world_gt_covered));
   return out;
 }
 
@@ -103,8 +109,10 @@ nlohmann::json evaluationToJson(const TrajectoryEvaluation& e, const EvalOptions
                         {"trans", statisticsToJson(e.rpe_trans_stats)},
                         {"rot_deg", statisticsToJson(e.rpe_rot_deg_stats)},
                         {"trans_axis_rmse", axesToJson(e.rpe_axis_rmse)}};
-  return {{"matched", e.pairs.size()},    {"align", e.align}, {"scale", e.T_gt_estimate.scale},
-          {"max_diff", options.max_diff}, {"ate", ate},       {"rpe", rpe}};
+  nlohmann::json out = {{"matched", e.pairs.size()},    {"align", e.align}, {"scale", e.T_gt_estimate.scale},
+                        {"max_diff", options.max_diff}, {"ate", ate},       {"rpe", rpe}};
+  if (e.drift) out["drift"] = driftToJson(*e.drift);
+  return out;
 }
 
 }  // namespace slamcmp

@@ -2,6 +2,7 @@
 // Trajectory error against ground truth (SPEC section 4): association, Umeyama alignment, absolute
 // trajectory error (ATE) and relative pose error (RPE), with the statistics evo_ape / evo_rpe
 // print, computed as evo computes them so that the figures agree to 1e-6 relative.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "core/trajectory.h"
 #include "eval/metrics/align_umeyama.h"
 #include "eval/metrics/associate.h"
+#include "eval/metrics/segment_drift.h"
 
 namespace slamcmp {
 
@@ -42,6 +44,9 @@ struct TrajectoryEvaluation {
   std::vector<double> rpe_trans, rpe_rot_deg;
   Vec3 rpe_axis_rmse = Vec3::Zero();  // m, rms of E's translation along x, y, z
   Statistics rpe_trans_stats, rpe_rot_deg_stats;
+  // KITTI devkit drift over the matched poses (after alignment), its segment lengths set by the
+  // ground truth's path over the time the matched poses span; nothing when no segment fits.
+  std::optional<SegmentDrift> drift;
 };
 
 // Associates, aligns and measures. Throws InputError when no pose pairs are found, when an
@@ -51,8 +56,8 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
                                         const EvalOptions& options);
 
 // SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, trans,
-// rot_deg}, each statistic block rmse, mean, median, std, min, max; plus max_diff,
-// ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
+// rot_deg}, each statistic block rmse, mean, median, std, min, max; drift when it has segments;
+// plus max_diff, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
 nlohmann::json evaluationToJson(const TrajectoryEvaluation& evaluation, const EvalOptions& options);
 
 }  // namespace slamcmp

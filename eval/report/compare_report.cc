@@ -10,26 +10,16 @@
 #include "core/error.h"
 #include "core/map_ply.h"
 #include "core/sequence.h"
+#include "core/statistics.h"
 #include "eval/report/compare_figures.h"
+#include "eval/report/experiment_figures.h"
+#include "eval/report/experiment_plan.h"
+#include "eval/report/results_table.h"
 #include "eval/report/thesis_tables.h"
 
 namespace fs = std::filesystem;
 
 namespace slamcmp {
-
-namespace {
-
-
-double jsonNumber(const nlohmann::json& j, std::initializer_list<const char*> path) {
-  const nlohmann::json* p = &j;
-  for (const char* k : path) {
-    if (!p->is_object() || !p->contains(k)) return NAN;
-    p = &(*p)[k];
-  }
-  return p->is_number() ? p->get<double>() : NAN;
-}
-
-}  // namespace
 
 std::string fmt(double v, int precision) {
   if (!std::isfinite(v)) return "-";
@@ -62,23 +52,84 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   return r;
 }
 
-std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std::vector<Method>& methods,
-                               const std::vector<std::vector<RunResult>>& results, int max_frames,
-                               const std::string& preamble, const std::string& out_dir) {
+namespace {
+
+// The plan's runs of sequence s and method m, in trial order.
+std::vector<const RunResult*> cellRuns(const Plan& plan, const std::vector<RunResult>& runs, size_t s, size_t m) {
+  std::vector<const RunResult*> out;
+  for (size_t k = 0; k < runs.size(); ++k)
+    if (plan.runs[k].sequence == s && plan.runs[k].method == m) out.push_back(&runs[k]);
+  return out;
+}
+
+// The column's numbers over the cell's finished trials.
+std::vector<double> cellValues(const std::vector<const RunResult*>& cell, const std::string& column) {
+  std::vector<double> v;
+  for (const RunResult* r : cell)
+    if (const double x = runValue(*r, column); std::isfinite(x)) v.push_back(x);
+  return v;
+}
+
+// One trial: its number; several: mean ± std (population, as Statistics) over the finished ones,
+// with "(k/N)" when some did not finish or have no such number. `scale` converts units (m to mm).
+std::string cellText(const std::vector<const RunResult*>& cell, const std::string& column, double scale,
+                     int precision) {
+  const std::vector<double> v = cellValues(cell, column);
+  if (v.empty()) return "-";
+  const Statistics st = computeStatistics(v);
+  std::string text = fmt(st.mean * scale, precision);
+  if (cell.size() > 1) text += " ± " + fmt(st.std * scale, precision);
+  if (v.size() < cell.size()) text += " (" + std::to_string(v.size()) + "/" + std::to_string(cell.size()) + ")";
+  return text;
+}
+
+bool anyFinished(const std::vector<const RunResult*>& cell) {
+  return std::any_of(cell.begin(), cell.end(), [](const RunResult* r) { return r->status == "ok"; });
+}
+
+// Why a cell has no numbers: the first trial's reason.
+std::string failureText(const std::vector<const RunResult*>& cell) {
+  for (const RunResult* r : cell)
+    if (r->status != "ok") return r->status + ": " + r->error;
+  return "";
+}
+
+std::string trialsNote(const Plan& plan) {
+  if (plan.trials == 1) return "";
+  return " Cells are the mean ± std (population, ddof 0) over " + std::to_string(plan.trials) +
+         " trials; \"(k/N)\": only k of the N trials finished or have the number.";
+}
+
+}  // namespace
+
+std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>& seqs,
+                               const std::vector<RunResult>& runs, const std::string& out_dir) {
+  const std::vector<Method>& methods = plan.methods;
   std::ostringstream md;
   md << "# slamcmp comparison\n\n";
-  md << preamble << "\n\n";
+  md << "Methods: ";
+  for (size_t m = 0; m < methods.size(); ++m) md << (m ? ", " : "") << "`" << methods[m].label() << "`";
+  md << ". " << plan.runs.size() << " runs, each one `slamcmp run` process on one core (OpenCV on one thread); "
+     << "ms per frame exclude image decoding.";
+  if (plan.trials > 1)
+    md << " " << plan.trials << " trials: trial k re-renders a synthetic sequence with seed k (textures, "
+       << "hand jitter and sensor noise) or runs a real one with `--seed k` (every random seed of the back-end).";
+  if (!plan.swept_keys.empty()) {
+    md << " Swept:";
+    for (const std::string& key : plan.swept_keys) md << " `" << key << "`";
+    md << " (every combination of one back-end's values).";
+  }
+  md << " Every number of every run is in results.csv.\n\n";
+
+  writeResultsCsv(plan, runs, out_dir + "/results.csv");
 
   // Table 3.1 and 3.2, measured here, with the thesis's numbers beside them.
-  std::ofstream t31(out_dir + "/table_3_1.csv"), t32(out_dir + "/table_3_2.csv"),
-      acc(out_dir + "/accuracy.csv");
+  std::ofstream t31(out_dir + "/table_3_1.csv"), t32(out_dir + "/table_3_2.csv");
   t31 << "video,frames,thesis_frames,motion\n";
-  acc << "video,method,frames,tracked,first_lost_frame,ate_trans_rmse_m,ate_rot_rmse_deg,rpe_trans_rmse_m,"
-         "rpe_rot_rmse_deg,ms_median,ms_p99,map_points,map_median_m,map_rmse_m,map_max_m,map_within_1cm\n";
   md << "## Table 3.1: the sequences\n\n| video | frames | thesis frames | motion |\n|---|---|---|---|\n";
   for (const auto& s : seqs) {
     const auto tv = thesisVideo(s.name);
-    const int frames = max_frames >= 0 ? std::min(max_frames, s.frames) : s.frames;
+    const int frames = plan.max_frames >= 0 ? std::min(plan.max_frames, s.frames) : s.frames;
     md << "| " << s.name << " | " << frames << " | " << (tv ? std::to_string(tv->frames) : "-") << " | "
        << (tv ? tv->motion : "") << " |\n";
     t31 << s.name << "," << frames << "," << (tv ? std::to_string(tv->frames) : "") << ",\""
@@ -90,7 +141,9 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
   for (size_t m = 0; m < methods.size(); ++m)
     if (!methods[m].thesis_method.empty()) t32_methods.push_back(m);
   md << "\n## Table 3.2: milliseconds per frame (median of the tracking thread's CPU time, decoding excluded: "
-        "stable on a loaded machine), this machine against the thesis's\n\n| video |";
+        "stable on a loaded machine), this machine against the thesis's\n\n";
+  if (plan.trials > 1) md << "Mean ± std over the trials of each run's median.\n\n";
+  md << "| video |";
   t32 << "video";
   for (size_t m : t32_methods) {
     md << " " << methods[m].label() << " | thesis " << methods[m].thesis_method << " |";
@@ -105,58 +158,55 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
     md << "| " << seqs[s].name << " |";
     t32 << seqs[s].name;
     for (size_t m : t32_methods) {
-      const RunResult& r = results[s][m];
-      const double ms = r.error.empty() ? jsonNumber(r.summary, {"cpu_ms_per_frame", "median"}) : NAN;
+      const auto cell = cellRuns(plan, runs, s, m);
+      const std::vector<double> v = cellValues(cell, "cpu_ms_median");
+      const double ms = v.empty() ? NAN : computeStatistics(v).mean;
       const double thesis = tv ? thesisMs(*tv, methods[m].thesis_method) : NAN;
-      std::string c = fmt(ms, 2);
+      std::string c = cellText(cell, "cpu_ms_median", 1, 2);
       if (std::isfinite(ms) && std::isfinite(thesis) && ms > 0) c += " (" + fmt(thesis / ms, 0) + "x faster)";
       md << " " << c << " | " << fmt(thesis) << " |";
-      t32 << "," << ms << "," << thesis;
+      t32 << "," << exactNumber(ms) << "," << exactNumber(thesis);
     }
     md << "\n";
     t32 << "\n";
   }
 
   md << "\n## Accuracy against ground truth (what the thesis could not measure)\n\n"
-     << "World frame = board frame, so no alignment: ATE is the error of the pose as reported; a run started "
-        "without a board (--init none) is scale-free and scored after Sim(3) alignment, marked (sim3, scale s). "
-        "RPE over 1 frame.\n\n"
-     << "| video | method | tracked | first lost | ATE rmse [mm] | ATE rot rmse [deg] | RPE rmse [mm] | "
-        "RPE rot rmse [deg] | ms median | ms p99 |\n|---|---|---|---|---|---|---|---|---|---|\n";
+     << "ATE after the alignment shown (none: the world frame is the board frame for every method, the pose "
+        "as reported; a run started without a board, --init none, is scale-free and scored after Sim(3) alignment, "
+        "which gives its scale). RPE over 1 frame."
+     << trialsNote(plan) << "\n\n"
+     << "| video | method | posed | first lost | ATE rmse [mm] | ATE rot rmse [deg] | RPE rmse [mm] | "
+        "RPE rot rmse [deg] | alignment, scale | CPU ms median | ms median |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (size_t s = 0; s < seqs.size(); ++s)
-    for (const auto& r : results[s]) {
-      if (!r.error.empty()) {
-        md << "| " << seqs[s].name << " | " << r.method.label() << " | failed: " << r.error << " ||||||||\n";
-        acc << seqs[s].name << "," << r.method.label() << ",,,,,,,,,,,,,,\n";
+    for (size_t m = 0; m < methods.size(); ++m) {
+      const auto cell = cellRuns(plan, runs, s, m);
+      md << "| " << seqs[s].name << " | " << methods[m].label() << " | ";
+      if (!anyFinished(cell)) {
+        md << failureText(cell) << " ||||||||||\n";
         continue;
       }
-      const int frames = r.summary.value("frames", 0), tracked = r.summary.value("tracked", 0);
-      const auto& fl = r.summary["first_lost_frame"];
-      const std::string first_lost = fl.is_number() ? std::to_string(fl.get<int>()) : "-";
-      double ate = NAN, ate_rot = NAN, rpe = NAN, rpe_rot = NAN;
-      if (r.errors) {
-        ate = r.errors->ate_trans_rmse;
-        ate_rot = r.errors->ate_rot_rmse_deg;
-        rpe = r.errors->rpe_trans_rmse;
-        rpe_rot = r.errors->rpe_rot_rmse_deg;
+      // One trial: tracked/frames and its first lost frame; several: the posed share and the
+      // earliest first lost frame.
+      std::string posed, first_lost = "-", align;
+      int earliest = -1;
+      for (const RunResult* r : cell) {
+        if (r->status != "ok") continue;
+        const auto& fl = r->summary["first_lost_frame"];
+        if (fl.is_number() && (earliest < 0 || fl.get<int>() < earliest)) earliest = fl.get<int>();
+        if (align.empty() && r->errors) align = r->errors->align;
       }
-      const double med = jsonNumber(r.summary, {"ms_per_frame", "median"});
-      const double p99 = jsonNumber(r.summary, {"ms_per_frame", "p99"});
-      const std::string aligned =
-          r.errors && r.errors->align == "sim3" ? " (sim3, scale " + fmt(r.errors->T_gt_estimate.scale, 3) + ")" : "";
-      md << "| " << seqs[s].name << " | " << r.method.label() << aligned << " | " << tracked << "/" << frames << " | "
-         << first_lost << " | " << fmt(ate * 1e3) << " | " << fmt(ate_rot, 3) << " | " << fmt(rpe * 1e3) << " | "
-         << fmt(rpe_rot, 3) << " | " << fmt(med) << " | " << fmt(p99) << " |\n";
-      acc << seqs[s].name << "," << r.method.label() << "," << frames << "," << tracked << ","
-          << (fl.is_number() ? first_lost : "") << "," << ate << "," << ate_rot << "," << rpe << "," << rpe_rot
-          << "," << med << "," << p99 << ",";
-      if (r.map_errors) {
-        const MapErrorStats& m = r.map_errors->stats;
-        acc << m.distance.count << "," << m.distance.median << "," << m.distance.rmse << "," << m.distance.max << ","
-            << m.within_1cm << "\n";
+      if (earliest >= 0) first_lost = std::to_string(earliest);
+      if (cell.size() == 1) {
+        posed = std::to_string(cell[0]->summary.value("tracked", 0)) + "/" + std::to_string(cell[0]->summary.value("frames", 0));
       } else {
-        acc << ",,,,\n";
+        posed = cellText(cell, "posed_percent", 1, 1) + " %";
       }
+      md << posed << " | " << first_lost << " | " << cellText(cell, "ate_trans_rmse_m", 1e3, 2) << " | "
+         << cellText(cell, "ate_rot_rmse_deg", 1, 3) << " | " << cellText(cell, "rpe_trans_rmse_m", 1e3, 2) << " | "
+         << cellText(cell, "rpe_rot_rmse_deg", 1, 3) << " | " << (align.empty() ? "-" : align) << ", "
+         << cellText(cell, "scale", 1, 4) << " | " << cellText(cell, "cpu_ms_median", 1, 2) << " | "
+         << cellText(cell, "ms_median", 1, 2) << " |\n";
     }
   const auto tv_note = [&] {
     std::string note;
@@ -167,30 +217,84 @@ std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std:
   }();
   if (!tv_note.empty()) md << "\nThe thesis's MonoSLAM lost every feature on " << tv_note << ".\n";
 
-  if (std::any_of(seqs.begin(), seqs.end(), [](const SequenceInfo& s) { return s.scene.has_value(); })) {
-    md << "\n## Map accuracy against the scene's true surfaces (synthetic sequences)\n\n"
-       << "Distance of each point of map.ply to the nearest surface of scene.yaml (board, walls, box faces; "
-          "finite rectangles). Known points given to a back-end exactly (the EKF's four board corners) are "
-          "not scored.\n\n"
-       << "| video | method | points | median [mm] | rmse [mm] | max [mm] | within 1 cm |\n"
-          "|---|---|---|---|---|---|---|\n";
+  // Drift over path segments (KITTI devkit), when a run's path allows a segment.
+  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return r.errors && r.errors->drift; })) {
+    md << "\n## Drift over path segments (KITTI odometry devkit)\n\n"
+       << "From every 10th pose, the relative motion over a segment of the ground truth's path: translation error "
+          "in % of the segment's length and rotation error in degrees per metre, averaged over every segment. "
+          "Segment lengths: the devkit's 100..800 m on paths over 800 m, else 0.1..0.8 of the path the run "
+          "covered (room-scale runs)."
+       << trialsNote(plan) << "\n\n"
+       << "| video | method | path [m] | segments | translation [%] | rotation [deg/m] |\n|---|---|---|---|---|---|\n";
     for (size_t s = 0; s < seqs.size(); ++s)
-      for (const auto& r : results[s]) {
-        if (!r.map_errors) continue;
-        const MapErrorStats& m = r.map_errors->stats;
-        md << "| " << seqs[s].name << " | " << r.method.label() << " | " << m.distance.count << " | "
-           << fmt(m.distance.median * 1e3) << " | " << fmt(m.distance.rmse * 1e3) << " | " << fmt(m.distance.max * 1e3)
-           << " | " << (m.distance.count ? fmt(100 * m.within_1cm, 0) + "%" : "-") << " |\n";
+      for (size_t m = 0; m < methods.size(); ++m) {
+        const auto cell = cellRuns(plan, runs, s, m);
+        const RunResult* first = nullptr;
+        for (const RunResult* r : cell)
+          if (!first && r->status == "ok" && r->errors && r->errors->drift) first = r;
+        if (!first) continue;
+        const SegmentDrift& d = *first->errors->drift;
+        md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << fmt(d.path_m, 3) << " | "
+           << fmt(d.lengths.front().length_m, 3) << ".." << fmt(d.lengths.back().length_m, 3) << " m, " << d.segments
+           << " | " << cellText(cell, "drift_trans_percent", 1, 3) << " | " << cellText(cell, "drift_rot_deg_per_m", 1, 3)
+           << " |\n";
       }
   }
 
-  md << "\n## Figures\n\n";
-  for (size_t s = 0; s < seqs.size(); ++s) {
-    for (const auto& path : writeCompareFigures(seqs[s], results[s], out_dir + "/figures")) {
-      const std::string rel = fs::relative(path, out_dir).string();
-      md << "![" << fs::path(path).stem().string() << "](" << rel << ")\n\n";
+  // A sweep: each setting's accuracy and cost, sequence by sequence.
+  if (!plan.swept_keys.empty()) {
+    md << "\n## Sweep: accuracy against CPU time\n\nATE rmse [mm] / median CPU ms per frame of each setting."
+       << trialsNote(plan) << "\n\n| method | setting |";
+    for (const auto& s : seqs) md << " " << s.name << " ATE | " << s.name << " CPU ms |";
+    md << "\n|---|---|";
+    for (size_t k = 0; k < seqs.size(); ++k) md << "---|---|";
+    md << "\n";
+    for (size_t m = 0; m < methods.size(); ++m) {
+      if (methods[m].setting.empty()) continue;
+      md << "| " << methods[m].base() << " | " << methods[m].setting << " |";
+      for (size_t s = 0; s < seqs.size(); ++s) {
+        const auto cell = cellRuns(plan, runs, s, m);
+        md << " " << cellText(cell, "ate_trans_rmse_m", 1e3, 2) << " | " << cellText(cell, "cpu_ms_median", 1, 2) << " |";
+      }
+      md << "\n";
     }
   }
+
+  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return r.map_errors.has_value(); })) {
+    md << "\n## Map accuracy against the scene's true surfaces (synthetic sequences)\n\n"
+       << "Distance of each point of map.ply to the nearest surface of scene.yaml (board, walls, box faces; "
+          "finite rectangles). Known points given to a back-end exactly (the EKF's four board corners) are "
+          "not scored."
+       << trialsNote(plan) << "\n\n"
+       << "| video | method | points | median [mm] | within 1 cm [%] |\n|---|---|---|---|---|\n";
+    for (size_t s = 0; s < seqs.size(); ++s)
+      for (size_t m = 0; m < methods.size(); ++m) {
+        const auto cell = cellRuns(plan, runs, s, m);
+        if (cellValues(cell, "map_points").empty()) continue;
+        md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << cellText(cell, "map_points", 1, 0) << " | "
+           << cellText(cell, "map_median_m", 1e3, 2) << " | " << cellText(cell, "map_within_1cm", 100, 0) << " |\n";
+      }
+  }
+
+  // Runs that did not finish: a compare interrupted, a run that failed, or runs not yet done.
+  std::ostringstream unfinished;
+  for (const RunResult& r : runs)
+    if (r.status != "ok") unfinished << "- `" << r.dir << "`: " << r.status << (r.error.empty() ? "" : ": " + r.error) << "\n";
+  if (!unfinished.str().empty())
+    md << "\n## Runs not finished\n\nNot in the statistics above.\n\n" << unfinished.str();
+
+  md << "\n## Figures\n\n";
+  std::vector<std::string> figures;
+  for (size_t s = 0; s < seqs.size(); ++s) {
+    // The trajectories of the first trial; the trials' spread is in the box plots.
+    std::vector<RunResult> first_trial;
+    for (size_t m = 0; m < methods.size(); ++m) first_trial.push_back(*cellRuns(plan, runs, s, m).front());
+    const SequenceInfo& seq = first_trial.front().sequence ? *first_trial.front().sequence : seqs[s];
+    for (const auto& path : writeCompareFigures(seq, first_trial, out_dir + "/figures")) figures.push_back(path);
+  }
+  for (const auto& path : writeExperimentFigures(plan, seqs, runs, out_dir + "/figures")) figures.push_back(path);
+  for (const auto& path : figures)
+    md << "![" << fs::path(path).stem().string() << "](" << fs::relative(path, out_dir).string() << ")\n\n";
   const std::string report = out_dir + "/report.md";
   std::ofstream out(report);
   if (!out) throw InputError(report, "cannot be written");

@@ -19,13 +19,17 @@ namespace slamcmp {
 
 // A back-end with an optional mode, written "cslam", "cslam:calibration", "monoslam"; its colour and
 // thesis column come from the back-end registry.
+// In a sweep (compare --set), each setting of a back-end's swept options is a Method of its own:
+// "cslam features.max_features=50".
 struct Method {
   std::string backend;
   std::string mode;                // "" = the back-end's default mode
   std::string colour = "#9467bd";  // figure colour
   std::string thesis_method;       // the thesis's Table 3.2 column it stands beside ("" = none)
-  std::string label() const { return mode.empty() ? backend : backend + ":" + mode; }
-  std::string slug() const { return mode.empty() ? backend : backend + "-" + mode; }
+  std::string setting;             // "" or the swept options' values: "features.max_features=50 ..."
+  std::string base() const { return mode.empty() ? backend : backend + ":" + mode; }
+  std::string label() const { return setting.empty() ? base() : base() + " " + setting; }
+  std::string slug() const;        // a folder name: "cslam-calibration", "cslam-features.max_features=50"
 };
 
 struct SequenceInfo {
@@ -35,11 +39,14 @@ struct SequenceInfo {
   std::optional<SceneGeometry> scene;  // synthetic sequences: the true surfaces (scene.yaml)
 };
 
-// One method on one sequence, as read back from its output folder.
+// One run (a method on one trial of a sequence), as read back from its output folder.
 struct RunResult {
   Method method;
   std::string dir;
-  std::string error;  // non-empty: the run failed
+  int trial = 1;
+  const SequenceInfo* sequence = nullptr;  // the trial's sequence (its own ground truth and scene)
+  std::string status = "ok";  // ok | failed | interrupted | not run
+  std::string error;          // non-empty: no result (why: the run's last message, or what stopped it)
   nlohmann::json summary;
   std::vector<FrameRow> frames;
   Trajectory trajectory;
@@ -57,10 +64,12 @@ SequenceInfo readSequenceInfo(const std::string& path);
 // A finished run read back from `dir` and scored (throws InputError for a missing or bad file).
 RunResult loadRun(const Method& method, const std::string& dir, const SequenceInfo& seq);
 
-// report.md, table_3_1.csv, table_3_2.csv, accuracy.csv and figures/ in out_dir; results[s][m]
-// is methods[m] on seqs[s]. `preamble` is the report's first paragraph. Returns report.md's path.
-std::string writeCompareReport(const std::vector<SequenceInfo>& seqs, const std::vector<Method>& methods,
-                               const std::vector<std::vector<RunResult>>& results, int max_frames,
-                               const std::string& preamble, const std::string& out_dir);
+struct Plan;
+
+// report.md, results.csv (one row a run), table_3_1.csv, table_3_2.csv and figures/ in out_dir.
+// runs[k] is plan.runs[k] read back; seqs[s] the plan's given sequence s. Everything written
+// depends on the plan and the runs only (not on where or when they ran). Returns report.md's path.
+std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>& seqs,
+                               const std::vector<RunResult>& runs, const std::string& out_dir);
 
 }  // namespace slamcmp

@@ -19,6 +19,14 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
+// numpy's default quantile (linear between the nearest ranks) of a non-empty sample.
+double quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const double h = q * static_cast<double>(v.size() - 1);
+  const size_t lo = static_cast<size_t>(std::floor(h)), hi = std::min(v.size() - 1, lo + 1);
+  return v[lo] + (h - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
 }  // namespace
 
 std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
@@ -26,11 +34,35 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
   const int height = rows * figure.panel_height_px + (figure.title.empty() ? 0 : 40);
   std::ostringstream s;
   s.precision(10);
-  // Data first, as inline datablocks; a blank line breaks a line at each NaN.
-  for (size_t p = 0; p < figure.panels.size(); ++p)
-    for (size_t k = 0; k < figure.panels[p].series.size(); ++k) {
-      const PlotSeries& ser = figure.panels[p].series[k];
+  // Data first, as inline datablocks; a blank line breaks a line at each NaN. Stacked bars are
+  // drawn as bars from 0 to the running sum, the tallest first, so that each shows its own segment.
+  std::vector<PlotPanel> panels = figure.panels;
+  for (PlotPanel& panel : panels)
+    for (size_t k = 1; panel.stacked_bars && k < panel.series.size(); ++k)
+      for (size_t i = 0; i < panel.series[k].y.size() && i < panel.series[k - 1].y.size(); ++i)
+        panel.series[k].y[i] = (std::isfinite(panel.series[k].y[i]) ? panel.series[k].y[i] : 0.0) +
+                               (std::isfinite(panel.series[k - 1].y[i]) ? panel.series[k - 1].y[i] : 0.0);
+  for (size_t p = 0; p < panels.size(); ++p)
+    for (size_t k = 0; k < panels[p].series.size(); ++k) {
+      const PlotSeries& ser = panels[p].series[k];
+      if (!ser.point_labels.empty()) {
+        s << "$l" << p << "_" << k << " << EOD\n";
+        for (size_t i = 0; i < ser.x.size() && i < ser.y.size() && i < ser.point_labels.size(); ++i)
+          if (std::isfinite(ser.x[i]) && std::isfinite(ser.y[i]))
+            s << ser.x[i] << " " << ser.y[i] << " " << quoted(ser.point_labels[i]) << "\n";
+        s << "EOD\n";
+      }
       s << "$d" << p << "_" << k << " << EOD\n";
+      if (ser.boxplot) {  // one row: x, first quartile, min, max, third quartile, median
+        std::vector<double> v;
+        for (double y : ser.y)
+          if (std::isfinite(y)) v.push_back(y);
+        if (!v.empty() && !ser.x.empty())
+          s << ser.x.front() << " " << quantile(v, 0.25) << " " << quantile(v, 0) << " " << quantile(v, 1) << " "
+            << quantile(v, 0.75) << " " << quantile(v, 0.5) << "\n";
+        s << "EOD\n";
+        continue;
+      }
       bool gap = false;
       const bool coloured = !ser.colour_by.empty();
       for (size_t i = 0; i < ser.x.size() && i < ser.y.size(); ++i) {
@@ -57,8 +89,8 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
   // An empty second line keeps the title clear of keys placed above the top row's panels.
   if (!figure.title.empty()) s << " title " << quoted(figure.title) << ".\"\\n\" font ',13'";
   s << "\n";
-  for (size_t p = 0; p < figure.panels.size(); ++p) {
-    const PlotPanel& panel = figure.panels[p];
+  for (size_t p = 0; p < panels.size(); ++p) {
+    const PlotPanel& panel = panels[p];
     s << "set title " << quoted(panel.title) << "\n";
     s << "set xlabel " << quoted(panel.xlabel) << "\nset ylabel " << quoted(panel.ylabel) << "\n";
     if (panel.colour_max > 0) {
@@ -91,14 +123,36 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
         << "\n";
     }
     s << (panel.log_y ? "set logscale y\n" : "unset logscale y\n");
+    if (!panel.xtics.empty()) {
+      s << "set xtics (";
+      for (size_t i = 0; i < panel.xtics.size(); ++i)
+        s << (i ? ", " : "") << quoted(panel.xtics[i].second) << " " << panel.xtics[i].first;
+      s << ") rotate by -30 left\nset boxwidth 0.5 absolute\nset xrange [" << panel.xtics.front().first - 0.6 << ":"
+        << panel.xtics.back().first + 0.6 << "]\nset yrange [0:*]\n";
+    } else {
+      s << "set xtics autofreq norotate\n";
+    }
     if (panel.series.empty()) {
       s << "set key off\nplot NaN notitle\nset key\n";
       continue;
     }
     s << "plot ";
-    for (size_t k = 0; k < panel.series.size(); ++k) {
+    for (size_t n = 0; n < panel.series.size(); ++n) {
+      const size_t k = panel.stacked_bars ? panel.series.size() - 1 - n : n;
       const PlotSeries& ser = panel.series[k];
-      if (k) s << ", \\\n     ";
+      if (n) s << ", \\\n     ";
+      if (panel.stacked_bars) {
+        s << "$d" << p << "_" << k << " using 1:2:(0.6) with boxes fs solid 0.85 border lc rgb '#555555' fc rgb "
+          << quoted(ser.color) << " title " << quoted(ser.label);
+        continue;
+      }
+      if (ser.boxplot) {  // gnuplot's own boxplot draws no box under 4 values: quartile boxes, min-max whiskers
+        s << "$d" << p << "_" << k << " using 1:2:3:4:5 with candlesticks whiskerbars 0.5 lc rgb " << quoted(ser.color)
+          << " fs solid 0.35 border lc rgb " << quoted(ser.color) << " title " << quoted(ser.label)
+          << ", \\\n     $d" << p << "_" << k << " using 1:6:6:6:6 with candlesticks lc rgb " << quoted(ser.color)
+          << " lw 2 notitle";
+        continue;
+      }
       if (ser.points && !ser.colour_by.empty()) {
         s << "$d" << p << "_" << k << " using 1:2:3 with points pt 7 ps 0.6 lc palette title " << quoted(ser.label);
         continue;
@@ -106,6 +160,9 @@ std::string gnuplotScript(const Figure& figure, const std::string& png_path) {
       s << "$d" << p << "_" << k << " using 1:2 with " << (ser.points ? "points pt 7 ps 0.4" : "lines")
         << " lc rgb " << quoted(ser.color) << " lw " << ser.width << (ser.dashed ? " dt 2" : " dt 1")
         << " title " << quoted(ser.label);
+      if (!ser.point_labels.empty())
+        s << ", \\\n     $l" << p << "_" << k << " using 1:2:3 with labels offset char 0.8,0.6 left font ',8' tc rgb "
+          << quoted(ser.color) << " notitle";
     }
     s << "\n";
   }

@@ -1,6 +1,7 @@
 #pragma once
 // Figures as PNG through gnuplot (pngcairo): axes, ticks, labels, legends, several panels.
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace slamcmp {
@@ -15,6 +16,8 @@ struct PlotSeries {
   std::vector<double> colour_by{};  // non-empty (with points): each point coloured by this value
                                     // through the panel's colour bar instead of `color`
   bool fits_range = true;         // false: not counted when an equal-axes panel fits its range
+  bool boxplot = false;           // a box plot of the y values at x (x constant: one box)
+  std::vector<std::string> point_labels{};  // non-empty: each point labelled with this text
 };
 
 struct PlotPanel {
@@ -25,6 +28,8 @@ struct PlotPanel {
   bool reverse_y = false;      // y grows downwards (the world's Y axis points down)
   double colour_max = 0;       // > 0: colour bar from 0 to this (values above it take its colour)
   std::string colour_label{};  // the colour bar's label
+  std::vector<std::pair<double, std::string>> xtics{};  // non-empty: named categories at these x
+  bool stacked_bars = false;   // each series a segment of bars stacked at the xtics, in series order
 };
 
 struct Figure {

@@ -69,12 +69,57 @@ TEST(Associate, NothingMatchedSaysWhy) {
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("ns"), std::string::npos) << what;
-    EXPECT_NE(what.find("--max-diff"), std::string::npos) << what;
+    EXPECT_NE(what.find("time units differ"), std::string::npos) << what;
+    EXPECT_NE(what.find("1e+09 times"), std::string::npos) << what;  // the factor
+    EXPECT_NE(what.find("ns against s"), std::string::npos) << what;
     EXPECT_NE(what.find("1305031102.1 .. 1305031102.3"), std::string::npos)
         << what;  // the time ranges
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
   }
+}
+
+// Relative times in ms against s overlap near 0 and pair a pose or two by chance: still reported
+// as the unit mismatch it is, with the factor, not as too few pairs.
+TEST(Associate, MillisecondsAgainstSecondsAreNamedEvenWithAChancePair) {
+  std::vector<double> t_gt, t_est;
+  for (int i = 0; i < 50; ++i) {
+    t_gt.push_back(0.1 * i);
+    t_est.push_back(100.0 * i);  // the same frames in ms
+  }
+  try {
+    associateByTime(atTimes(t_gt), atTimes(t_est), 0.01);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("estimate's timestamps are 1000 times the ground truth's"), std::string::npos) << what;
+    EXPECT_NE(what.find("ms against s"), std::string::npos) << what;
+  }
+  // The other way round: the ground truth in ms.
+  try {
+    associateByTime(atTimes(t_est), atTimes(t_gt), 0.01);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ground truth's timestamps are 1000 times the estimate's"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Associate, NoOverlapSaysByHowMuch) {
+  try {
+    associateByTime(atTimes({10.0, 10.1, 10.2, 10.3}), atTimes({12.3, 12.4, 12.5}), 0.01);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("no time overlap"), std::string::npos) << what;
+    EXPECT_NE(what.find("starts 2 s after the ground truth ends"), std::string::npos) << what;
+  }
+}
+
+// A short estimate inside a long ground truth is not a unit mismatch.
+TEST(Associate, AShortEstimateInsideIsFine) {
+  std::vector<double> t_gt;
+  for (int i = 0; i < 1000; ++i) t_gt.push_back(1305031102.0 + 0.1 * i);
+  EXPECT_EQ(associateByTime(atTimes(t_gt), atTimes({1305031102.5, 1305031102.6}), 0.01).size(), 2u);
 }
 
 // Published ground truth repeats a timestamp now and then (TUM fr2_desk): evo's argmin takes the

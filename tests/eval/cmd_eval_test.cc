@@ -67,6 +67,31 @@ TEST(CmdEval, TableByDefault) {
   EXPECT_NE(r.out.find("alignment se3"), std::string::npos) << r.out;
 }
 
+// The alignment and its scale are printed whatever the alignment; drift follows the KITTI devkit
+// with lengths in tenths of this short path (the JSON and the table).
+TEST(CmdEval, AlignmentScaleAndDriftAlwaysShown) {
+  TempDir tmp;
+  writePair(tmp, 1.0);
+  const std::string files = "eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt");
+  const auto table = runSlamcmp(files);
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("alignment none, scale 1.000000"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("drift (KITTI devkit"), std::string::npos) << table.out;
+  const auto sim3 = runSlamcmp(files + " --align sim3 --json");
+  ASSERT_EQ(sim3.exit_code, 0) << sim3.err;
+  const nlohmann::json j = nlohmann::json::parse(sim3.out);
+  EXPECT_EQ(j["align"], "sim3");
+  EXPECT_TRUE(j["scale"].is_number());
+  ASSERT_TRUE(j.contains("drift")) << j.dump();
+  ASSERT_EQ(j["drift"]["segments_m"].size(), 8u) << j["drift"].dump();
+  // The parabola (i, i^2) from 0 to 4: its path, and the ladder its tenths.
+  double path = 0;
+  for (int i = 1; i < 5; ++i) path += std::hypot(1.0, i * i - (i - 1) * (i - 1));
+  EXPECT_NEAR(j["drift"]["path_m"].get<double>(), path, 1e-9);
+  EXPECT_NEAR(j["drift"]["segments_m"][0].get<double>(), 0.1 * path, 1e-9);
+  for (const char* key : {"trans_percent", "rot_deg_per_m"}) EXPECT_TRUE(j["drift"][key].is_number()) << key;
+}
+
 TEST(CmdEval, MissingFileIsBadInput) {
   TempDir tmp;
   writePair(tmp, 1.0);

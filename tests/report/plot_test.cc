@@ -63,6 +63,36 @@ TEST(Plot, ColouredPointsOutlineAndReversedY) {
   EXPECT_NE(script.find("set xrange [-0.6:1.6]"), std::string::npos) << script;
 }
 
+// Stacked bars: each series drawn from 0 to the running sum, the tallest first; categories named.
+TEST(Plot, StackedBarsAndBoxPlotsOverNamedCategories) {
+  Figure fig;
+  PlotPanel bars;
+  bars.xtics = {{0, "cslam"}, {1, "monoslam"}};
+  bars.stacked_bars = true;
+  bars.series.push_back({"predict", {0, 1}, {1.0, 2.0}});
+  bars.series.push_back({"update", {0, 1}, {0.5, NAN}});
+  PlotPanel boxes;
+  boxes.xtics = bars.xtics;
+  PlotSeries box{"cslam", {0, 0, 0}, {1.0, 1.2, 1.1}};
+  box.boxplot = true;
+  PlotSeries labelled{"sweep", {2, 3}, {1, 2}};
+  labelled.point_labels = {"50", "100"};
+  boxes.series = {box, labelled};
+  fig.panels = {bars, boxes};
+  const std::string script = gnuplotScript(fig, "/tmp/x.png");
+  EXPECT_NE(script.find("$d0_1 << EOD\n0 1.5\n1 2\nEOD"), std::string::npos) << script;  // 1 + 0.5; 2 + nothing
+  EXPECT_LT(script.find("plot $d0_1 using 1:2:(0.6) with boxes"), script.find("$d0_0 using 1:2:(0.6) with boxes"));
+  EXPECT_NE(script.find("set xtics (\"cslam\" 0, \"monoslam\" 1)"), std::string::npos) << script;
+  // The box: x, quartiles 1.05 and 1.15, whiskers 1.0 to 1.2, median 1.1.
+  EXPECT_NE(script.find("$d1_0 << EOD\n0 1.05 1 1.2 1.15 1.1\nEOD"), std::string::npos) << script;
+  EXPECT_NE(script.find("$d1_0 using 1:2:3:4:5 with candlesticks"), std::string::npos) << script;
+  EXPECT_NE(script.find("$l1_1 << EOD\n2 1 \"50\"\n3 2 \"100\"\nEOD"), std::string::npos) << script;
+  EXPECT_NE(script.find("$l1_1 using 1:2:3 with labels"), std::string::npos) << script;
+  test::TempDir tmp;
+  writeFigurePng(fig, tmp.file("fig.png"));  // gnuplot takes it
+  EXPECT_TRUE(std::ifstream(tmp.file("fig.png")).good());
+}
+
 TEST(Plot, WritesAPng) {
   test::TempDir tmp;
   const std::string path = tmp.file("fig.png");

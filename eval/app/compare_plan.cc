@@ -1,0 +1,230 @@
+#include "eval/app/compare_plan.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "datasets/synth_sequence.h"
+#include "eval/app/backends.h"
+#include "eval/app/run_sequence.h"
+
+namespace fs = std::filesystem;
+
+namespace slamcmp {
+
+namespace {
+
+// The slamcmp binary running now, which the jobs run too.
+std::string selfExecutable() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw std::runtime_error("cannot find the slamcmp binary (/proc/self/exe): " + ec.message());
+  return self.string();
+}
+
+std::string shellQuoted(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%") ==
+                        std::string::npos)
+    return s;
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+struct Sweep {
+  std::string key;                  // "cslam.features.max_features"
+  std::string backend;              // "cslam"
+  std::vector<std::string> values;  // "50", "100", "200"
+};
+
+// "SECTION.KEY=V1,V2,..." checked: a back-end among the methods, an option it has, values it takes.
+Sweep parseSweep(const std::string& text, const std::vector<Method>& methods) {
+  const std::string where = "--set " + text;
+  const auto eq = text.find('=');
+  const auto dot = text.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+    throw InputError(where, "must be SECTION.KEY=V1,V2,..., e.g. cslam.features.max_features=50,100,200");
+  Sweep sweep{text.substr(0, eq), text.substr(0, dot), {}};
+  const BackendRegistration& backend = findBackend(sweep.backend, where);
+  if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) { return m.backend == backend.name; }))
+    throw InputError(where, backend.name + " is not among --backends");
+  std::stringstream values(text.substr(eq + 1));
+  for (std::string v; std::getline(values, v, ',');) {
+    if (v.empty()) throw InputError(where, "has an empty value");
+    if (std::find(sweep.values.begin(), sweep.values.end(), v) != sweep.values.end())
+      throw InputError(where, "lists '" + v + "' twice");
+    try {  // the option exists and takes the value, with the back-end's other defaults
+      loadBackendOptions(backend, "", {sweep.key + "=" + v});
+    } catch (const InputError& e) {
+      throw InputError(where, "value " + v + ": " + e.what());
+    }
+    sweep.values.push_back(v);
+  }
+  if (sweep.values.empty()) throw InputError(where, "gives no value");
+  return sweep;
+}
+
+// `colour` mixed towards white (t > 0) or black (t < 0) by |t|: the settings of one back-end in
+// shades of its colour.
+std::string shade(const std::string& colour, double t) {
+  unsigned r = 0, g = 0, b = 0;
+  if (colour.size() != 7 || std::sscanf(colour.c_str(), "#%02x%02x%02x", &r, &g, &b) != 3) return colour;
+  auto mix = [t](unsigned c) { return static_cast<unsigned>(t > 0 ? c + (255 - c) * t : c * (1 + t)); };
+  char out[8];
+  std::snprintf(out, sizeof out, "#%02x%02x%02x", mix(r), mix(g), mix(b));
+  return out;
+}
+
+// The method's settings: every combination of its back-end's sweeps, in the order given.
+std::vector<std::vector<std::string>> settingsOf(const Method& method, const std::vector<Sweep>& sweeps) {
+  std::vector<std::vector<std::string>> grid{{}};
+  for (const Sweep& sweep : sweeps) {
+    if (sweep.backend != method.backend) continue;
+    std::vector<std::vector<std::string>> next;
+    for (const auto& partial : grid)
+      for (const std::string& v : sweep.values) {
+        next.push_back(partial);
+        next.back().push_back(sweep.key + "=" + v);
+      }
+    grid = next;
+  }
+  return grid;
+}
+
+std::string settingLabel(const std::vector<std::string>& sets) {
+  std::string label;
+  for (const std::string& set : sets) label += (label.empty() ? "" : " ") + set.substr(set.find('.') + 1);
+  return label;
+}
+
+}  // namespace
+
+Plan makePlan(const CompareOptions& options) {
+  if (options.sequences.empty()) throw InputError("--sequence", "give at least one sequence");
+  if (options.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
+  if (options.trials < 1) throw InputError("--trials", "must be at least 1, got " + std::to_string(options.trials));
+  if (options.methods.empty()) throw InputError("--backends", "names no back-end");
+  std::vector<Sweep> sweeps;
+  Plan plan;
+  for (const std::string& text : options.sets) {
+    sweeps.push_back(parseSweep(text, options.methods));
+    for (const Sweep& other : std::vector<Sweep>(sweeps.begin(), sweeps.end() - 1))
+      if (other.key == sweeps.back().key) throw InputError("--set " + text, "sweeps " + other.key + " twice");
+    plan.swept_keys.push_back(sweeps.back().key);
+  }
+  const fs::path dir = fs::absolute(options.out_dir).lexically_normal();
+  std::vector<SequenceInfo> infos;
+  for (const std::string& path : options.sequences) {
+    SequenceInfo info = readSequenceInfo(path);
+    for (const auto& other : infos)
+      if (other.name == info.name) throw InputError(path, "two sequences are named '" + info.name + "'");
+    plan.sequences.push_back(fs::absolute(path).lexically_normal().string());
+    plan.sequence_names.push_back(info.name);
+    infos.push_back(std::move(info));
+  }
+  std::vector<std::vector<std::string>> method_sets;  // each method's --set arguments
+  for (const Method& method : options.methods) {
+    const auto settings = settingsOf(method, sweeps);
+    for (size_t k = 0; k < settings.size(); ++k) {
+      Method m = method;
+      m.setting = settingLabel(settings[k]);
+      // Shades from darker to lighter keep every setting of one back-end near its colour.
+      if (settings.size() > 1) m.colour = shade(method.colour, -0.45 + 0.9 * k / (settings.size() - 1));
+      plan.methods.push_back(m);
+      method_sets.push_back(settings[k]);
+    }
+  }
+  plan.trials = options.trials;
+  plan.max_frames = options.max_frames;
+
+  std::error_code ec;
+  for (const char* sub : {"runs", "logs", "figures"}) {
+    fs::create_directories(dir / sub, ec);
+    if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());
+  }
+  const std::string slamcmp = options.slamcmp.empty() ? selfExecutable() : fs::absolute(options.slamcmp).string();
+  for (size_t s = 0; s < plan.sequences.size(); ++s) {
+    const std::optional<SynthOptions> synth = options.trials > 1 ? readSynthInfo(plan.sequences[s]) : std::nullopt;
+    for (int trial = 1; trial <= options.trials; ++trial) {
+      std::string sequence_path = plan.sequences[s];
+      std::string seed_kind;
+      if (options.trials > 1) seed_kind = synth ? "render" : "backend";
+      if (synth) {
+        // The trial's sequence: the given one's options with seed `trial`, only the frames a run uses.
+        SynthOptions render = *synth;
+        render.seed = trial;
+        render.frames = options.max_frames > 0 ? std::min(synth->frameCount(), options.max_frames) : synth->frameCount();
+        if (synth->seed != trial || synth->frameCount() < render.frames) {
+          sequence_path = (dir / "sequences" / ("seed" + std::to_string(trial)) / plan.sequence_names[s]).string();
+          std::cerr << "rendering " << sequence_path << " (" << render.frames << " frames)\n";
+          writeSyntheticSequence(render, sequence_path);
+          if (interrupted()) throw CompareInterrupted("interrupted while rendering " + sequence_path + "; nothing ran");
+        }
+      }
+      for (size_t m = 0; m < plan.methods.size(); ++m) {
+        PlannedRun run;
+        run.sequence = s;
+        run.method = m;
+        run.trial = trial;
+        run.seed_kind = seed_kind;
+        if (!seed_kind.empty()) run.seed = trial;
+        run.sequence_path = sequence_path;
+        const std::string name = plan.sequence_names[s] + "-" + plan.methods[m].slug() +
+                                 (options.trials > 1 ? "-t" + std::to_string(trial) : "");
+        run.dir = "runs/" + name;
+        run.log = "logs/" + name + ".log";
+        run.sets = method_sets[m];
+        const Method& method = plan.methods[m];
+        run.argv = {slamcmp, "run", "--backend", method.backend};
+        if (!method.mode.empty()) run.argv.insert(run.argv.end(), {"--mode", method.mode});
+        run.argv.insert(run.argv.end(), {"--sequence", sequence_path, "--out", (dir / run.dir).string()});
+        if (options.max_frames > 0) run.argv.insert(run.argv.end(), {"--max-frames", std::to_string(options.max_frames)});
+        if (seed_kind == "backend") run.argv.insert(run.argv.end(), {"--seed", std::to_string(trial)});
+        for (const std::string& set : run.sets) run.argv.insert(run.argv.end(), {"--set", set});
+        fs::remove_all(dir / run.dir, ec);  // a previous plan's outputs are not this run's
+        fs::remove(dir / run.log, ec);
+        plan.runs.push_back(std::move(run));
+      }
+    }
+  }
+  return plan;
+}
+
+std::string jobLine(const PlannedRun& run, const std::string& dir) {
+  std::string line = runEnvironment();
+  for (const std::string& a : run.argv) line += " " + shellQuoted(a);
+  return line + " > " + shellQuoted((fs::path(dir) / run.log).string()) + " 2>&1";
+}
+
+void writePlanFiles(const Plan& plan, const std::string& dir) {
+  auto write = [&](const std::string& name, const std::string& text) {
+    const std::string path = (fs::path(dir) / name).string();
+    std::ofstream out(path);
+    out << text;
+    if (!out) throw InputError(path, "cannot be written");
+  };
+  write("plan.json", planToJson(plan).dump(1) + "\n");
+  std::string jobs;
+  for (const PlannedRun& run : plan.runs) jobs += jobLine(run, dir) + "\n";
+  write("jobs.txt", jobs);
+  std::ostringstream sbatch;
+  sbatch << "#!/bin/bash\n"
+         << "# slamcmp compare --plan: a Slurm array job, task k runs line k of jobs.txt (one `slamcmp run`).\n"
+         << "# Submit with `sbatch " << shellQuoted((fs::path(dir) / "slurm.sbatch").string())
+         << "`; once every task is done, `slamcmp compare --collect " << shellQuoted(dir) << "`.\n"
+         << "#SBATCH --job-name=slamcmp\n"
+         << "#SBATCH --array=1-" << plan.runs.size() << "\n"
+         << "#SBATCH --ntasks=1\n"
+         << "#SBATCH --cpus-per-task=1\n"
+         << "#SBATCH --output=" << (fs::path(dir) / "logs" / "slurm-%A_%a.out").string() << "\n"
+         << "line=$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" " << shellQuoted((fs::path(dir) / "jobs.txt").string()) << ")\n"
+         << "exec /bin/sh -c \"$line\"\n";
+  write("slurm.sbatch", sbatch.str());
+}
+
+}  // namespace slamcmp

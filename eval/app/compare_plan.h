@@ -1,0 +1,28 @@
+#pragma once
+// compare's plan: which runs a compare makes (every sequence x back-end, mode and setting x trial),
+// each as one self-contained `slamcmp run` command, and the files that hand them to a scheduler:
+// plan.json (read back by --collect), jobs.txt (a command a line: `parallel < jobs.txt`) and
+// slurm.sbatch (a Slurm array job over jobs.txt).
+#include <string>
+
+#include "eval/app/compare.h"
+#include "eval/report/experiment_plan.h"
+
+namespace slamcmp {
+
+// Every run gets this in its environment: OpenCV on one thread, so that a run takes one core
+// (a scheduler's slot) and the tracking thread's CPU time is all of the back-end's.
+inline const char* runEnvironment() { return "OPENCV_FOR_THREADS_NUM=1"; }
+
+// Checks the options (InputError naming the option), opens every sequence, renders the trials'
+// synthetic sequences into <out>/sequences/seed<k>/, and lists the runs. Removes the planned runs'
+// old folders and logs, so that a collect never reads a previous plan's run.
+Plan makePlan(const CompareOptions& options);
+
+// plan.json, jobs.txt and slurm.sbatch in `dir` (the plan's absolute folder).
+void writePlanFiles(const Plan& plan, const std::string& dir);
+
+// One line of jobs.txt: the run's environment, its command and its output into its log.
+std::string jobLine(const PlannedRun& run, const std::string& dir);
+
+}  // namespace slamcmp

@@ -1,0 +1,89 @@
+#include "eval/app/job_runner.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include "core/progress.h"
+#include "eval/app/compare_plan.h"
+#include "eval/app/run_sequence.h"
+
+extern char** environ;
+
+namespace slamcmp {
+
+namespace {
+
+// Starts the run with its log as stdout and stderr and runEnvironment() added to ours. Everything
+// the child needs is made before fork: between fork and exec only async-signal-safe calls.
+pid_t startRun(const PlannedRun& run, const std::string& dir) {
+  const std::string log = (std::filesystem::path(dir) / run.log).string();
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot write " + log);
+  std::vector<char*> argv;
+  for (const std::string& a : run.argv) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string extra = runEnvironment();
+  const std::string extra_name = extra.substr(0, extra.find('=') + 1);
+  std::vector<char*> envp;
+  for (char** e = environ; *e; ++e)
+    if (std::string(*e).compare(0, extra_name.size(), extra_name) != 0) envp.push_back(*e);
+  envp.push_back(const_cast<char*>(extra.c_str()));
+  envp.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    execve(argv[0], argv.data(), envp.data());
+    _exit(127);
+  }
+  close(fd);
+  if (pid < 0) throw std::runtime_error("cannot start a run (fork failed)");
+  return pid;
+}
+
+}  // namespace
+
+bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs) {
+  struct Running {
+    pid_t pid;
+    size_t run;
+  };
+  std::vector<Running> running;
+  size_t next = 0, done = 0;
+  bool stopping = false;
+  Progress progress("compare", static_cast<int>(plan.runs.size()));
+  while (true) {
+    while (!interrupted() && next < plan.runs.size() && static_cast<int>(running.size()) < std::max(1, jobs))
+      running.push_back({startRun(plan.runs[next], dir), next}), ++next;
+    if (running.empty()) break;
+    if (interrupted() && !stopping) {
+      // A terminal's Ctrl-C reaches the runs too; a SIGTERM or SIGHUP sent to compare alone does not.
+      for (const Running& r : running) kill(r.pid, SIGTERM);
+      stopping = true;
+    }
+    for (size_t k = 0; k < running.size();) {
+      int status = 0;
+      if (waitpid(running[k].pid, &status, WNOHANG) == running[k].pid) {
+        running.erase(running.begin() + static_cast<long>(k));
+        ++done;
+      } else {
+        ++k;
+      }
+    }
+    progress.update(static_cast<int>(done), std::to_string(running.size()) + " running");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  progress.finish();
+  return !interrupted();
+}
+
+}  // namespace slamcmp

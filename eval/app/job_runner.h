@@ -1,0 +1,15 @@
+#pragma once
+// A plan's runs on this machine: each its own `slamcmp run` process (the command jobs.txt lists),
+// `jobs` at once, its output into its log. Ctrl-C, SIGTERM or SIGHUP stop the compare: no run
+// starts, the running ones get SIGTERM (they stop at their next frame and leave whole outputs
+// marked interrupted), and all are waited for.
+#include <string>
+
+#include "eval/report/experiment_plan.h"
+
+namespace slamcmp {
+
+// Returns false when interrupted.
+bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs);
+
+}  // namespace slamcmp

@@ -1,0 +1,19 @@
+#pragma once
+// compare's figures over the whole experiment: box plots of each method's ATE over the trials per
+// sequence (rpg_trajectory_evaluation's), accuracy against CPU time of a sweep's settings
+// (SLAMBench's design-space view), and each sequence's CPU time per frame split into the
+// back-ends' stages, stacked (ov_eval's timing bars).
+#include <string>
+#include <vector>
+
+#include "eval/report/compare_report.h"
+#include "eval/report/experiment_plan.h"
+
+namespace slamcmp {
+
+// Writes <fig_dir>/ate_boxplot.png (several trials), sweep_ate_cpu.png (a sweep) and
+// <sequence>_stages.png (runs with stages); returns the paths written.
+std::vector<std::string> writeExperimentFigures(const Plan& plan, const std::vector<SequenceInfo>& seqs,
+                                                const std::vector<RunResult>& runs, const std::string& fig_dir);
+
+}  // namespace slamcmp

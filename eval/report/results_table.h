@@ -1,0 +1,32 @@
+#pragma once
+// results.csv: one row a run (sequence, method, trial, seed, the swept values, status, then every
+// number below). The report's tables average these same numbers over trials, and the numbers are
+// written so that they read back exactly (shortest round-trip), so that any statistic in the
+// report can be recomputed from results.csv.
+#include <string>
+#include <vector>
+
+#include "eval/report/compare_report.h"
+#include "eval/report/experiment_plan.h"
+
+namespace slamcmp {
+
+struct RunColumn {
+  const char* name;                     // results.csv's header
+  double (*value)(const RunResult& r);  // NaN when the run has no such number
+};
+
+// frames, tracked, posed_percent, scale, ate_trans_rmse_m, ate_rot_rmse_deg, rpe_trans_rmse_m,
+// rpe_rot_rmse_deg, drift_trans_percent, drift_rot_deg_per_m, ms_median, cpu_ms_median,
+// cpu_ms_mean, map_points, map_median_m, map_within_1cm.
+const std::vector<RunColumn>& runColumns();
+
+// The column's number of a run that finished (status ok), else NaN.
+double runValue(const RunResult& r, const std::string& column);
+
+// The shortest text that reads back as exactly `v`; "" for NaN.
+std::string exactNumber(double v);
+
+void writeResultsCsv(const Plan& plan, const std::vector<RunResult>& runs, const std::string& path);
+
+}  // namespace slamcmp

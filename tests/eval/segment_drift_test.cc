@@ -1,0 +1,95 @@
+// Drift over path segments as the KITTI odometry devkit computes it (evaluate_odometry.cpp).
+#include "eval/metrics/segment_drift.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace slamcmp {
+namespace {
+
+// Poses every `step` metres along x, `n` of them.
+std::vector<SE3> straightLine(int n, double step) {
+  std::vector<SE3> T;
+  for (int i = 0; i < n; ++i) T.push_back(SE3(Mat3::Identity(), Vec3(step * i, 0, 0)));
+  return T;
+}
+
+TEST(SegmentDrift, LengthsAreTheDevkitsOnLongPathsAndTenthsOnShortOnes) {
+  EXPECT_EQ(driftSegmentLengths(2000), (std::vector<double>{100, 200, 300, 400, 500, 600, 700, 800}));
+  const std::vector<double> room = driftSegmentLengths(1.5);
+  ASSERT_EQ(room.size(), 8u);
+  for (int k = 0; k < 8; ++k) EXPECT_NEAR(room[k], 0.15 * (k + 1), 1e-12);
+}
+
+// A 1 % scale error: every segment's translation error is 1 % of its travelled length, which the
+// devkit divides by the nominal length (the first pose strictly beyond it: length + 1 step here).
+TEST(SegmentDrift, ScaleErrorOnAKittiLengthDrive) {
+  const std::vector<SE3> gt = straightLine(1001, 1.0);  // 1000 m
+  std::vector<SE3> est;
+  for (const SE3& T : gt) est.push_back(SE3(Mat3::Identity(), 1.01 * T.t()));
+  const auto drift = segmentDrift(gt, est, pathLength(gt));
+  ASSERT_TRUE(drift);
+  EXPECT_TRUE(drift->kitti_lengths);
+  double sum = 0;
+  int segments = 0;
+  for (int len = 100; len <= 800; len += 100) {
+    // Starts 0, 10, 20, ...: the segment's last pose first + len + 1 must exist (<= 1000).
+    for (int first = 0; first + len + 1 <= 1000; first += 10) {
+      sum += 0.01 * (len + 1) / len;
+      ++segments;
+    }
+  }
+  EXPECT_EQ(drift->segments, segments);
+  EXPECT_NEAR(drift->trans_percent, 100.0 * sum / segments, 1e-9);
+  EXPECT_NEAR(drift->rot_deg_per_m, 0.0, 1e-9);
+  ASSERT_EQ(drift->lengths.size(), 8u);
+  EXPECT_EQ(drift->lengths.front().segments, 90);  // first + 101 <= 1000: 0..890
+}
+
+// A yaw drift of 0.01 rad per metre: the rotation error of every segment is its length's worth.
+TEST(SegmentDrift, YawDriftOnARoomScalePath) {
+  const int n = 206;
+  const double step = 0.01;  // 2.05 m: the tenths (20.5 steps) fall between poses, not on one
+  const std::vector<SE3> gt = straightLine(n, step);
+  std::vector<SE3> est;
+  for (int i = 0; i < n; ++i) {
+    const double yaw = 0.01 * step * i;
+    Mat3 R;
+    R << std::cos(yaw), -std::sin(yaw), 0, std::sin(yaw), std::cos(yaw), 0, 0, 0, 1;
+    est.push_back(SE3(R, gt[i].t()));
+  }
+  const auto drift = segmentDrift(gt, est, pathLength(gt));
+  ASSERT_TRUE(drift);
+  EXPECT_FALSE(drift->kitti_lengths);
+  EXPECT_NEAR(drift->path_m, 2.05, 1e-9);
+  EXPECT_NEAR(drift->lengths.front().length_m, 0.205, 1e-9);
+  // Each segment of nominal length L spans L + step (the first pose strictly beyond L): its angle is
+  // 0.01 (L + step), over L.
+  double expected = 0;
+  int segments = 0;
+  for (int k = 1; k <= 8; ++k) {
+    const double len = 0.205 * k;
+    for (int first = 0; first < n; first += 10) {
+      int last = first;
+      while (last < n && !(step * last > step * first + len)) ++last;
+      if (last == n) continue;
+      expected += 0.01 * step * (last - first) / len;
+      ++segments;
+    }
+  }
+  EXPECT_EQ(drift->segments, segments);
+  EXPECT_NEAR(drift->rot_deg_per_m, expected / segments * 180.0 / M_PI, 1e-6);
+}
+
+TEST(SegmentDrift, NothingWithoutASegment) {
+  const std::vector<SE3> gt = straightLine(5, 0.1);
+  EXPECT_FALSE(segmentDrift(gt, gt, 0.0));
+  EXPECT_FALSE(segmentDrift({gt[0]}, {gt[0]}, 1.0));
+  // A path of 0.4 m whose matched poses cover only its first 0.05 m: no tenth fits.
+  EXPECT_FALSE(segmentDrift({gt[0], SE3(Mat3::Identity(), Vec3(0.05, 0, 0))},
+                            {gt[0], SE3(Mat3::Identity(), Vec3(0.05, 0, 0))}, 4.0));
+}
+
+}  // namespace
+}  // namespace slamcmp

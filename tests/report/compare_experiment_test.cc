@@ -1,0 +1,316 @@
+// compare as an experiment: trials and sweeps (results.csv one row a run, the report's mean ± std
+// recomputed from it), a plan run elsewhere and collected (byte-identical tables), GNU parallel
+// over jobs.txt, and an interrupted compare (exit 130, unfinished runs marked).
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "datasets/synth_sequence.h"
+#include "eval/app/compare.h"
+#include "tests/test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// One CSV line's fields ("..." quoting as results.csv writes it).
+std::vector<std::string> csvFields(const std::string& line) {
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      out.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += c;
+    }
+  }
+  return out;
+}
+
+// results.csv as rows of column name -> text.
+std::vector<std::map<std::string, std::string>> readResults(const std::string& path) {
+  const std::vector<std::string> lines = test::readLines(path);
+  std::vector<std::map<std::string, std::string>> rows;
+  if (lines.empty()) return rows;
+  const std::vector<std::string> header = csvFields(lines[0]);
+  for (size_t k = 1; k < lines.size(); ++k) {
+    const std::vector<std::string> f = csvFields(lines[k]);
+    EXPECT_EQ(f.size(), header.size()) << lines[k];
+    std::map<std::string, std::string> row;
+    for (size_t c = 0; c < header.size() && c < f.size(); ++c) row[header[c]] = f[c];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::string renderTv1(const TempDir& tmp, int frames) {
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = frames;
+  synth.supersample = 1;
+  writeSyntheticSequence(synth, tmp.file("tv1"));
+  return tmp.file("tv1");
+}
+
+CompareOptions shortCompare(const std::string& sequence, const std::string& methods, const std::string& out) {
+  CompareOptions options;
+  options.sequences = {sequence};
+  options.methods = parseMethods(methods);
+  options.out_dir = out;
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  if (bin) options.slamcmp = bin;  // the runs are `slamcmp run` processes
+  return options;
+}
+
+// Three trials of cslam swept over two feature counts and of monoslam: a row per run with its
+// trial, seed and swept value; each report cell is the mean ± population std of results.csv's
+// numbers, recomputed here; the sweep's and the trials' figures are drawn.
+TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  CompareOptions options = shortCompare(renderTv1(tmp, 15), "cslam,monoslam", tmp.file("out"));
+  options.trials = 3;
+  options.sets = {"cslam.features.max_features=100,200"};
+  const std::string report = readFile(runCompare(options));
+
+  const auto rows = readResults(tmp.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 3u * 3u);  // (cslam x 2 settings + monoslam) x 3 trials
+  std::map<std::string, std::vector<double>> ate_mm, cpu;
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "ok") << row.at("run") << ": " << row.at("error");
+    EXPECT_EQ(row.at("seed_kind"), "render");  // a synthetic sequence: each trial rendered with its seed
+    EXPECT_EQ(row.at("seed"), row.at("trial"));
+    const std::string swept = row.at("cslam.features.max_features");
+    EXPECT_EQ(swept.empty(), row.at("method") == "monoslam");
+    const std::string label = row.at("method") + (swept.empty() ? "" : " features.max_features=" + swept);
+    ate_mm[label].push_back(1e3 * std::stod(row.at("ate_trans_rmse_m")));
+    cpu[label].push_back(std::stod(row.at("cpu_ms_median")));
+  }
+  // Trial k's render differs from trial 1's (the seed changes the room's textures and the jitter).
+  EXPECT_NE(ate_mm["monoslam"][0], ate_mm["monoslam"][1]);
+  auto meanStd = [](const std::vector<double>& v) {
+    double mean = 0, var = 0;
+    for (double x : v) mean += x / v.size();
+    for (double x : v) var += (x - mean) * (x - mean) / v.size();
+    char text[64];
+    std::snprintf(text, sizeof text, "%.2f ± %.2f", mean, std::sqrt(var));
+    return std::string(text);
+  };
+  ASSERT_EQ(ate_mm.size(), 3u);
+  for (const auto& [label, values] : ate_mm) {
+    ASSERT_EQ(values.size(), 3u) << label;
+    // The accuracy row: | tv1 | label | posed | first lost | ATE ... | ... | CPU ms | ms |
+    const std::string row_start = "| tv1 | " + label + " | ";
+    const size_t at = report.find(row_start);
+    ASSERT_NE(at, std::string::npos) << label << "\n" << report;
+    const std::string row = report.substr(at, report.find('\n', at) - at);
+    EXPECT_NE(row.find("| " + meanStd(values) + " |"), std::string::npos) << row << " vs " << meanStd(values);
+    EXPECT_NE(row.find("| " + meanStd(cpu[label]) + " |"), std::string::npos) << row << " vs " << meanStd(cpu[label]);
+  }
+  EXPECT_NE(report.find("## Sweep: accuracy against CPU time"), std::string::npos);
+  for (const char* figure : {"ate_boxplot", "sweep_ate_cpu", "tv1_stages"}) {
+    EXPECT_TRUE(fs::exists(tmp.file(std::string("out/figures/") + figure + ".png"))) << figure;
+    EXPECT_NE(report.find(std::string("(figures/") + figure + ".png)"), std::string::npos) << figure;
+  }
+  // Trials 2 and 3 were rendered; trial 1 is the given sequence (rendered with seed 1).
+  EXPECT_TRUE(fs::exists(tmp.file("out/sequences/seed2/tv1/rgb.txt")));
+  EXPECT_FALSE(fs::exists(tmp.file("out/sequences/seed1")));
+}
+
+// A real sequence (no info.yaml) is rerun with `run --seed k`; a sweep value a back-end refuses,
+// or a swept back-end not compared, stops the compare before anything runs.
+TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  fs::remove(seq + "/info.yaml");
+  CompareOptions options = shortCompare(seq, "monoslam", tmp.file("plan"));
+  options.trials = 2;
+  planCompare(options);
+  const std::string jobs = readFile(tmp.file("plan/jobs.txt"));
+  EXPECT_NE(jobs.find("--seed 1 "), std::string::npos) << jobs;
+  EXPECT_NE(jobs.find("--seed 2 "), std::string::npos) << jobs;
+  options.sets = {"cslam.features.max_features=50"};
+  EXPECT_THROW(planCompare(options), InputError);  // cslam is not compared
+  options.methods = parseMethods("cslam");
+  options.sets = {"cslam.features.max_features=50,many"};
+  try {
+    planCompare(options);
+    FAIL() << "a value the option cannot take";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cslam.features.max_features"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("many"), std::string::npos) << e.what();
+  }
+}
+
+// Bad usage of the plan options: one line naming what is wrong, exit 2, nothing written.
+TEST(CompareExperiment, PlanAndCollectUsageErrors) {
+  TempDir tmp;
+  const auto no_plan = test::runSlamcmp("compare --collect " + tmp.path());
+  EXPECT_EQ(no_plan.exit_code, 2);
+  EXPECT_EQ(std::count(no_plan.err.begin(), no_plan.err.end(), '\n'), 1) << no_plan.err;
+  EXPECT_NE(no_plan.err.find(tmp.file("plan.json")), std::string::npos) << no_plan.err;
+  test::writeText(tmp.file("plan.json"), "{\"slamcmp_plan\": 1, \"sequences\": 3}");
+  const auto bad_plan = test::runSlamcmp("compare --collect " + tmp.path());
+  EXPECT_EQ(bad_plan.exit_code, 2) << bad_plan.err;
+  EXPECT_NE(bad_plan.err.find("plan.json: malformed plan"), std::string::npos) << bad_plan.err;
+  const auto both = test::runSlamcmp("compare --sequence " + tmp.path() + " --plan " + tmp.file("p") + " --out " +
+                                     tmp.file("o"));
+  EXPECT_EQ(both.exit_code, 2) << both.err;
+  EXPECT_FALSE(fs::exists(tmp.file("p")));
+  const auto trials = test::runSlamcmp("compare --sequence " + tmp.path() + " --trials 0 --out " + tmp.file("o"));
+  EXPECT_EQ(trials.exit_code, 2) << trials.err;
+  EXPECT_NE(trials.err.find("--trials"), std::string::npos) << trials.err;
+}
+
+// --plan writes a self-contained command a line and a Slurm array over them; the runs made from
+// jobs.txt by a shell (or anything else) and collected give the tables a direct compare gives on
+// the same run outputs, byte for byte; and a collect of a direct compare's folder rewrites its
+// tables identically.
+TEST(CompareExperiment, PlanThenCollectIsByteIdenticalToACompare) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  const CompareOptions direct = shortCompare(seq, "cslam,monoslam", tmp.file("direct"));
+  runCompare(direct);
+  const char* tables[] = {"report.md", "results.csv", "table_3_1.csv", "table_3_2.csv"};
+  std::map<std::string, std::string> direct_tables;
+  for (const char* t : tables) direct_tables[t] = readFile(tmp.file(std::string("direct/") + t));
+
+  CompareOptions planned = direct;
+  planned.out_dir = tmp.file("planned");
+  EXPECT_EQ(planCompare(planned), 2u);
+  const std::vector<std::string> jobs = test::readLines(tmp.file("planned/jobs.txt"));
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].rfind("OPENCV_FOR_THREADS_NUM=1 /", 0), 0u) << jobs[0];  // absolute paths
+  EXPECT_NE(jobs[0].find(" run --backend cslam --sequence " + fs::absolute(seq).string()), std::string::npos) << jobs[0];
+  EXPECT_NE(jobs[0].find("--out " + fs::absolute(tmp.file("planned/runs/tv1-cslam")).string()), std::string::npos);
+  const std::string sbatch = readFile(tmp.file("planned/slurm.sbatch"));
+  EXPECT_NE(sbatch.find("#SBATCH --array=1-2\n"), std::string::npos) << sbatch;
+  EXPECT_NE(sbatch.find("${SLURM_ARRAY_TASK_ID}p"), std::string::npos) << sbatch;
+  EXPECT_FALSE(fs::exists(tmp.file("planned/report.md")));  // nothing ran
+
+  // Collected before any run finished: every run marked, nothing invented.
+  EXPECT_EQ(test::runSlamcmp("compare --collect " + tmp.file("planned")).exit_code, 0);
+  EXPECT_NE(readFile(tmp.file("planned/report.md")).find("`runs/tv1-monoslam`: not run"), std::string::npos);
+
+  // The same run outputs (copied) give the same tables, byte for byte.
+  fs::copy(tmp.file("direct/runs"), tmp.file("planned/runs"),
+           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  fs::copy(tmp.file("direct/logs"), tmp.file("planned/logs"),
+           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  const auto collected = test::runSlamcmp("compare --collect " + tmp.file("planned"));
+  ASSERT_EQ(collected.exit_code, 0) << collected.err;
+  for (const char* t : tables) EXPECT_EQ(readFile(tmp.file(std::string("planned/") + t)), direct_tables[t]) << t;
+  ASSERT_EQ(test::runSlamcmp("compare --collect " + tmp.file("direct")).exit_code, 0);
+  for (const char* t : tables) EXPECT_EQ(readFile(tmp.file(std::string("direct/") + t)), direct_tables[t]) << t;
+
+  // jobs.txt run by a shell, line by line: the runs' tracking is the same as compare's (only the
+  // times differ), so the accuracy columns agree exactly.
+  for (const std::string& line : jobs) ASSERT_EQ(std::system(line.c_str()), 0) << line;  // sh -c line
+  ASSERT_EQ(test::runSlamcmp("compare --collect " + tmp.file("planned")).exit_code, 0);
+  const auto a = readResults(tmp.file("direct/results.csv")), b = readResults(tmp.file("planned/results.csv"));
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k)
+    for (const char* column : {"status", "tracked", "ate_trans_rmse_m", "rpe_trans_rmse_m", "drift_trans_percent"})
+      EXPECT_EQ(a[k].at(column), b[k].at(column)) << column << " of " << a[k].at("run");
+}
+
+// GNU parallel, the documented way on one machine: `parallel < jobs.txt`, then --collect.
+TEST(CompareExperiment, GnuParallelRunsThePlan) {
+  if (std::system("parallel --version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "GNU parallel is not installed (apt-get install parallel): skipped";
+  TempDir tmp;
+  CompareOptions options = shortCompare(renderTv1(tmp, 12), "cslam,cslam:calibration,monoslam", tmp.file("plan"));
+  options.trials = 2;
+  ASSERT_EQ(planCompare(options), 6u);
+  ASSERT_EQ(std::system(("parallel --will-cite -j 2 < " + tmp.file("plan/jobs.txt")).c_str()), 0);
+  const auto collected = test::runSlamcmp("compare --collect " + tmp.file("plan"));
+  ASSERT_EQ(collected.exit_code, 0) << collected.err;
+  const auto rows = readResults(tmp.file("plan/results.csv"));
+  ASSERT_EQ(rows.size(), 6u);
+  for (const auto& row : rows) EXPECT_EQ(row.at("status"), "ok") << row.at("run") << ": " << row.at("error");
+  EXPECT_EQ(readFile(tmp.file("plan/report.md")).find("## Runs not finished"), std::string::npos);
+}
+
+// SIGTERM to compare alone (a scheduler's signal, which the runs do not hear): the runs are stopped
+// and whole, the report marks them, and compare exits 130.
+TEST(CompareExperiment, InterruptedCompareMarksItsRunsAndFails) {
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  ASSERT_NE(bin, nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  renderTv1(tmp, 40);
+  // 2000 frames played from the 40 rendered: still running when the signal comes.
+  const std::string seq = tmp.file("long");
+  fs::create_directories(seq);
+  for (const char* f : {"camera.yaml", "target.yaml"}) fs::copy_file(tmp.file(std::string("tv1/") + f), seq + "/" + f);
+  std::ostringstream list;
+  for (int i = 0; i < 2000; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", i % 40);
+    list << 0.1 * i << " ../tv1/rgb/" << name << "\n";
+  }
+  test::writeText(seq + "/rgb.txt", list.str());
+
+  const std::string out = tmp.file("out");
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen(tmp.file("stderr").c_str(), "w", stderr);
+    freopen(tmp.file("stdout").c_str(), "w", stdout);
+    for (const int s : {SIGINT, SIGTERM, SIGHUP}) signal(s, SIG_DFL);
+    execl(bin, bin, "compare", "--sequence", seq.c_str(), "--backends", "cslam,monoslam,hybrid", "--jobs", "2",
+          "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  // Once both running runs have recorded frames.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  auto rows = [&](const std::string& run) { return test::readLines(out + "/runs/" + run + "/frames.csv").size(); };
+  while ((rows("long-cslam") < 5 || rows("long-monoslam") < 5) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::string err = readFile(tmp.file("stderr"));
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("interrupted"), std::string::npos) << err;
+  const std::string report = readFile(out + "/report.md");
+  EXPECT_NE(report.find("## Runs not finished"), std::string::npos) << report;
+  EXPECT_NE(report.find("`runs/long-cslam`: interrupted: stopped after"), std::string::npos) << report;
+  EXPECT_NE(report.find("`runs/long-hybrid`: not run"), std::string::npos) << report;
+  for (const auto& row : readResults(out + "/results.csv")) EXPECT_NE(row.at("status"), "ok") << row.at("run");
+}
+
+}  // namespace
+}  // namespace slamcmp
