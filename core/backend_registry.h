@@ -35,6 +35,8 @@ class BackendOptions {
   // One `--set` override: path as in the YAML ("features.max_features").
   virtual void set(const std::string& path, const std::string& value, const std::string& where) = 0;
   virtual void check(const std::string& where) const = 0;  // InputError naming where.field
+  // The bounds that need the image size (core/options.h, checkImage), once it is known.
+  virtual void checkAgainstImage(cv::Size image, const std::string& where) const = 0;
   virtual nlohmann::json toJson() const = 0;
   virtual std::string describe() const = 0;  // commented YAML with the defaults
 };
@@ -54,6 +56,9 @@ class TypedBackendOptions : public BackendOptions {
     setOption(path, text, where, value);
   }
   void check(const std::string& where) const override { checkOptions(value, where); }
+  void checkAgainstImage(cv::Size image, const std::string& where) const override {
+    checkOptionsAgainstImage(value, image, where);
+  }
   nlohmann::json toJson() const override { return optionsToJson(value); }
   std::string describe() const override { return describeOptions(value); }
 };

@@ -60,6 +60,7 @@ struct ActiveSearchOptions {
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the crops fit in the image
 };
 
 struct FeatureInitOptions {
@@ -93,6 +94,7 @@ struct FeatureInitOptions {
     v("min_corner_eigenvalue", min_corner_eigenvalue, "Shi-Tomasi minimum eigenvalue (OpenCV scale)");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the box fits in the image
 };
 
 struct MapManagementOptions {

@@ -59,7 +59,7 @@ std::string backendsHelp() {
 }
 
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
-                                                   const std::vector<std::string>& sets) {
+                                                   const std::vector<std::string>& sets, cv::Size image_size) {
   std::unique_ptr<BackendOptions> options = backend.default_options();
   std::string where = backend.name;
   if (!config_path.empty()) {
@@ -81,6 +81,7 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
     options->set(set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1), "--set " + backend.name);
   }
   options->check(where);
+  if (!image_size.empty()) options->checkAgainstImage(image_size, where);
   return options;
 }
 

@@ -25,9 +25,11 @@ const BackendMode& findMode(const BackendRegistration& backend, const std::strin
 std::string backendsHelp();
 
 // The back-end's options: defaults, then its section of the YAML file `config_path` ("" = none),
-// then each `--set section.key=value` naming this back-end, checked. A top-level section of the
-// file that names no back-end, or a --set for another back-end, is an InputError.
+// then each `--set section.key=value` naming this back-end, checked, and when `image_size` is given
+// (the sequence's, known once its first frame is read) checked against it too. A top-level section
+// of the file that names no back-end, or a --set for another back-end, is an InputError.
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
-                                                   const std::vector<std::string>& sets);
+                                                   const std::vector<std::string>& sets,
+                                                   cv::Size image_size = cv::Size());
 
 }  // namespace slamcmp
