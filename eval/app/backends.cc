@@ -64,8 +64,9 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
   std::string where = backend.name;
   if (!config_path.empty()) {
     const YamlFile config(config_path);
-    for (const std::string& section : config.root().keys())
-      findBackend(section, config_path + ": " + section);  // a misspelt section is not ignored
+    if (config.root().isMap())  // a file of only the %YAML header holds no section: the defaults
+      for (const std::string& section : config.root().keys())
+        findBackend(section, config_path + ": " + section);  // a misspelt section is not ignored
     where = config_path + ": " + backend.name;
     options->read(config.node(backend.name), where);
   }

@@ -658,6 +658,12 @@ std::vector<BadCase> cases() {
       imageBoundCase("CslamFeatureSpacingBeyondTheImage", "cslam", "features.min_distance_px", "1e+300", "160"),
       imageBoundCase("CslamRefineWindowLargerThanImages", "cslam", "board.detector.max_refine_half_window",
                      "2147483647", "57"),
+      // Found by fuzz_options: a --config of only the %YAML header made OpenCV assert listing the
+      // sections of an empty document (exit 1); it holds none, so the defaults run (and this tiny
+      // sequence ends without the board).
+      runCase(
+          "ConfigHeaderOnly", [](const std::string& seq) { writeText(seq + "/run.yaml", "%YAML:1.0\n"); },
+          {"the board never appeared"}, "--config {seq}/run.yaml"),
       // ... and those no image size makes sensible: memory for every initialising ray.
       configCase("MonoslamParticlesAbsurd", "%YAML:1.0\n---\nmonoslam:\n  feature_init:\n    particles: 2000000000\n",
                  "monoslam.feature_init.particles", "monoslam", {"must be in [2, 100000]"}),
