@@ -37,6 +37,8 @@ class BackendOptions {
   virtual void check(const std::string& where) const = 0;  // InputError naming where.field
   // Every random seed (the options called "seed") set to `seed`; returns how many were set.
   virtual int setSeeds(int seed) = 0;
+  // The bounds that need the image size (core/options.h, checkImage), once it is known.
+  virtual void checkAgainstImage(cv::Size image, const std::string& where) const = 0;
   virtual nlohmann::json toJson() const = 0;
   virtual std::string describe() const = 0;  // commented YAML with the defaults
 };
@@ -57,6 +59,9 @@ class TypedBackendOptions : public BackendOptions {
   }
   void check(const std::string& where) const override { checkOptions(value, where); }
   int setSeeds(int seed) override { return slamcmp::setSeeds(seed, value); }
+  void checkAgainstImage(cv::Size image, const std::string& where) const override {
+    checkOptionsAgainstImage(value, image, where);
+  }
   nlohmann::json toJson() const override { return optionsToJson(value); }
   std::string describe() const override { return describeOptions(value); }
 };

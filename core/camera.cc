@@ -30,23 +30,21 @@ void requireFloatingPoint(const YamlFile& file, const std::string& key) {
                      "must be f or d (floating point), got '" + type + "': integer data would be rounded");
 }
 
-// Focal lengths and principal point a real camera of this image size can have; anything else is a
-// unit mix-up (millimetres, another resolution) or a typo, and would only show up as a lost run.
-void checkPlausibleIntrinsics(const CameraModel& c, const std::string& path) {
-  const std::string where = path + ": camera_matrix";
+}  // namespace
+
+void checkPlausibleIntrinsics(const CameraModel& c, const std::string& path, const std::string& field) {
+  const std::string where = path + ": " + field;
   const std::string size = std::to_string(c.width) + "x" + std::to_string(c.height);
   const double lo = 0.05 * c.width, hi = 100.0 * c.width;
   for (const auto& [name, f] : {std::pair<const char*, double>{"fx", c.fx}, {"fy", c.fy}})
-    if (f < lo || f > hi)
+    if (!(f >= lo && f <= hi))  // NaN too
       throw InputError(where, std::string(name) + " " + formatNumber(f) + " px is not plausible for " + size +
                                   " images (expected " + formatNumber(lo) + " to " + formatNumber(hi) + " px)");
-  if (c.cx < -0.5 * c.width || c.cx > 1.5 * c.width)
+  if (!(c.cx >= -0.5 * c.width && c.cx <= 1.5 * c.width))
     throw InputError(where, "cx " + formatNumber(c.cx) + " px is far outside the " + size + " image");
-  if (c.cy < -0.5 * c.height || c.cy > 1.5 * c.height)
+  if (!(c.cy >= -0.5 * c.height && c.cy <= 1.5 * c.height))
     throw InputError(where, "cy " + formatNumber(c.cy) + " px is far outside the " + size + " image");
 }
-
-}  // namespace
 
 bool CameraModel::hasDistortion() const {
   for (int i = 0; i < num_distortion; ++i)
@@ -201,7 +199,7 @@ CameraModel readCameraYaml(const std::string& path) {
   c = CameraModel::fromOpenCV(K, d, cv::Size(c.width, c.height));
   c.num_distortion = n;
   c.check(path);
-  checkPlausibleIntrinsics(c, path);
+  checkPlausibleIntrinsics(c, path, "camera_matrix");
   return c;
 }
 

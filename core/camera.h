@@ -49,6 +49,11 @@ struct CameraModel {
   static CameraModel fromOpenCV(const cv::Mat& camera_matrix, const cv::Mat& dist, cv::Size size);
 };
 
+// Focal lengths and principal point a real camera of this image size can have; anything else is a
+// unit mix-up (millimetres, another resolution) or a typo, and would only show up as a lost run.
+// Throws InputError naming `path` and `field` (the file's name for the intrinsics).
+void checkPlausibleIntrinsics(const CameraModel& camera, const std::string& path, const std::string& field);
+
 // camera.yaml (OpenCV FileStorage): image_width, image_height, camera_matrix, distortion_coefficients.
 CameraModel readCameraYaml(const std::string& path);
 void writeCameraYaml(const std::string& path, const CameraModel& camera, double rms_px = -1.0);

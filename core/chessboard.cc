@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/options.h"
 
 namespace slamcmp {
 
@@ -14,6 +15,11 @@ void ChessboardDetectorOptions::check() const {
   if (!(refine_window_fraction > 0 && refine_window_fraction < 0.5))
     throw OptionError("refine_window_fraction", "must be in (0, 0.5)");
   if (max_refine_half_window < 1) throw OptionError("max_refine_half_window", "must be >= 1");
+}
+
+void ChessboardDetectorOptions::checkImage(cv::Size image) const {
+  requireWithinImage("max_refine_half_window", max_refine_half_window,
+                     (std::min(image.width, image.height) - 5) / 2, image);
 }
 
 namespace {

@@ -23,6 +23,7 @@ struct ChessboardDetectorOptions {
     v("max_refine_half_window", max_refine_half_window, "pixels");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // cv::cornerSubPix needs 2 * half window + 5 pixels
 };
 
 // Full search: finds, orders and refines the inner corners (distorted pixels, OpenCV row-major

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/statistics.h"
 
 namespace fs = std::filesystem;
@@ -74,6 +75,7 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
   int n = 0;
   while (std::getline(in, line)) {
     ++n;
+    if (interruptRequested()) throw InputError(atLine(list, n), "interrupted while the list was being read");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     // A byte-order mark (a list saved by Windows Notepad as "UTF-8"): not part of the first field.
     if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
@@ -115,8 +117,9 @@ double medianRate(const std::vector<ImageEntry>& entries) {
 Sequence imageListSequence(std::vector<ImageEntry> entries, double fps) {
   Sequence seq;
   seq.fps = fps;
-  const cv::Mat first = readGreyImage(entries.front().path);
-  if (first.empty()) throw InputError(entries.front().path, "cannot be decoded as an image");
+  std::string why;
+  const cv::Mat first = readGreyImage(entries.front().path, &why);
+  if (first.empty()) throw InputError(entries.front().path, "cannot be decoded as an image (" + why + ")");
   seq.image_size = first.size();
   seq.frames = std::make_unique<ImageListSource>(std::move(entries), seq.image_size);
   return seq;

@@ -13,11 +13,17 @@
 // describe it. A check() tests its own scalar fields only and names them as they are spelt in
 // visit(); checkOptions walks the nested structs and adds the path:
 //   run.yaml: cslam.map_refinement.max_iterations: must be >= 0
+// Windows, borders, patches and distances that only the image size can bound (an OpenCV window
+// larger than the image allocates without limit or fails an assertion on its region) are checked
+// once the first frame's size is known, by the same walk: a struct declares
+//   void checkImage(cv::Size image) const;  // throws OptionError naming the field
+// and checkOptionsAgainstImage calls it wherever it is nested.
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -72,8 +78,15 @@ struct Loader {
   }
 };
 
+template <class T, class = void>
+struct HasImageCheck : std::false_type {};
+template <class T>
+struct HasImageCheck<T, std::void_t<decltype(std::declval<const T&>().checkImage(cv::Size()))>> : std::true_type {};
+
 template <class Options>
 void checkTree(const Options& options, const std::string& where);
+template <class Options>
+void checkImageTree(const Options& options, cv::Size image, const std::string& where);
 
 struct Checker {
   const std::string& where;
@@ -97,6 +110,29 @@ void checkTree(const Options& options, const std::string& where) {
     options.check();
   } catch (const OptionError& e) {
     throw InputError(where + "." + e.field(), e.what());
+  }
+}
+
+struct ImageChecker {
+  const std::string& where;
+  cv::Size image;
+  template <class T>
+  void operator()(const char* key, T& value, const char* /*doc*/) {
+    if constexpr (IsOptionsStruct<T>::value) checkImageTree(value, image, where + "." + key);
+  }
+};
+
+template <class Options>
+void checkImageTree(const Options& options, cv::Size image, const std::string& where) {
+  Options copy = options;
+  ImageChecker checker{where, image};
+  copy.visit(checker);
+  if constexpr (HasImageCheck<Options>::value) {
+    try {
+      options.checkImage(image);
+    } catch (const OptionError& e) {
+      throw InputError(where + "." + e.field(), e.what());
+    }
   }
 }
 
@@ -207,6 +243,26 @@ struct Describer {
 template <class Options>
 void checkOptions(const Options& options, const std::string& where) {
   options_detail::checkTree(options, where);
+}
+
+// Checks the bounds that depend on the image size (checkImage() of every nested struct); a
+// message names `where`, the field's path and the size.
+template <class Options>
+void checkOptionsAgainstImage(const Options& options, cv::Size image, const std::string& where) {
+  options_detail::checkImageTree(options, image, where);
+}
+
+// For checkImage(): `value` pixels of `field` must be at most `limit` in `image`-sized frames.
+inline void requireWithinImage(const char* field, double value, double limit, cv::Size image) {
+  if (value > limit) {
+    const auto number = [](double x) {
+      std::ostringstream s;
+      if (x == std::floor(x) && std::abs(x) < 1e15) s << static_cast<long long>(x); else s << x;
+      return s.str();
+    };
+    throw OptionError(field, "must be at most " + number(limit) + " px for " + std::to_string(image.width) + "x" +
+                                 std::to_string(image.height) + " images, got " + number(value));
+  }
 }
 
 // Loads the fields present in `section` (a YAML map) into `options`, without checking them.

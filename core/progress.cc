@@ -3,6 +3,9 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <mutex>
+
+#include "core/stderr_capture.h"
 
 namespace slamcmp {
 
@@ -19,6 +22,7 @@ void Progress::update(int done, const std::string& detail) {
   if (now - last_ < std::chrono::milliseconds(100) && done != total_) return;  // ~10 redraws/s
   last_ = now;
   const double seconds = std::chrono::duration<double>(now - start_).count();
+  const std::lock_guard<std::mutex> lock(stderrMutex());  // not into an image decoder's capture
   if (total_ > 0) {
     const int width = 30;
     const int filled = static_cast<int>(width * static_cast<double>(done) / total_);
@@ -33,6 +37,7 @@ void Progress::update(int done, const std::string& detail) {
 void Progress::finish() {
   if (!enabled_ || finished_) return;
   finished_ = true;
+  const std::lock_guard<std::mutex> lock(stderrMutex());
   std::fprintf(stderr, "\n");
 }
 

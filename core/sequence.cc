@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <utility>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,6 +13,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/sequence_format.h"
+#include "core/stderr_capture.h"
 
 namespace fs = std::filesystem;
 
@@ -56,22 +59,53 @@ std::string lastComponent(const fs::path& p) {
 
 }  // namespace
 
-cv::Mat readGreyImage(const std::string& path) {
+cv::Mat readGreyImage(const std::string& path, std::string* why) {
+  const auto fail = [why](const std::string& reason) {
+    if (why) *why = reason;
+    return cv::Mat();
+  };
   // One read of the file, then decoding from memory: the truncation check needs the same bytes.
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return {};
+  if (!in) return fail("the file cannot be opened");
   std::vector<uchar> bytes(static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())));
   in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())) ||
-      bytes.empty() || isTruncatedImage(bytes))
-    return {};
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())) || bytes.empty())
+    return fail("the file is empty or unreadable");
+  if (isTruncatedImage(bytes)) return fail("the file is cut short");
   cv::Mat img;
-  try {
-    img = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
-  } catch (const cv::Exception&) {
-    return {};
-  }
-  return img.empty() ? img : toGrey(img);
+  bool threw = false;
+  const std::string said = captureStderr([&] {
+    try {
+      img = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
+    } catch (const cv::Exception&) {
+      threw = true;
+    }
+  });
+  // The decoder's first complaint, unless all it said were libpng warnings (whole pixels).
+  std::string complaint;
+  std::istringstream lines(said);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line.rfind("libpng warning:", 0) != 0) {
+      complaint = line;
+      break;
+    }
+  if (threw || img.empty() || !complaint.empty())
+    return fail(complaint.empty() ? "not a format OpenCV reads" : complaint);
+  return toGrey(img);
+}
+
+std::string implausibleFrameRate(double fps) {
+  constexpr double kMinFps = 0.1, kMaxFps = 1000;  // a slide show to a high-speed camera
+  if (fps >= kMinFps && fps <= kMaxFps) return "";
+  std::ostringstream why;
+  why << "the frames' timestamps imply " << fps << " fps";
+  for (const auto& [factor, unit] : {std::pair{1e3, "milliseconds"}, {1e6, "microseconds"}, {1e9, "nanoseconds"}})
+    if (fps * factor >= kMinFps && fps * factor <= kMaxFps) {
+      why << ": they look like " << unit << " (" << factor << " times seconds), not seconds";
+      return why.str();
+    }
+  why << ", outside [" << kMinFps << ", " << kMaxFps << "]";
+  return why.str();
 }
 
 const std::vector<const SequenceFormat*>& sequenceFormats() {

@@ -66,7 +66,16 @@ struct SequenceOpenOptions {
 // the image size.
 Sequence openSequence(const std::string& path, const SequenceOpenOptions& options = {});
 
-// Grey 8-bit image from any image OpenCV reads (colour, grey, 16-bit); empty if it cannot.
-cv::Mat readGreyImage(const std::string& path);
+// "" if `fps`, a sequence's rate (a video's, or implied by its frames' timestamps), is one a video
+// can have; else why not, with the factor when the timestamps look like another unit than seconds:
+// "the frames' timestamps imply 3e-08 fps: they look like nanoseconds (1e+09 times seconds)".
+std::string implausibleFrameRate(double fps);
+
+// Grey 8-bit image from any image OpenCV reads (colour, grey, 16-bit); empty if it cannot, with
+// the reason in `why` when given (e.g. "the file is cut short", or the decoder's own complaint
+// "libpng error: IDAT: invalid code lengths set"). An image
+// the decoder complains about is not returned half decoded; only libpng's warnings about extra
+// chunks (iCCP, tEXt) leave the pixels whole.
+cv::Mat readGreyImage(const std::string& path, std::string* why = nullptr);
 
 }  // namespace slamcmp

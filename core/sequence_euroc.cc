@@ -1,5 +1,7 @@
 // A EuRoC MAV folder: mav0/cam0/data.csv lists "timestamp,filename" (ns, names under cam0/data),
 // cam0/sensor.yaml holds the camera, state_groundtruth_estimate0/data.csv the body's poses.
+#include <cmath>
+
 #include "core/error.h"
 #include "core/image_list.h"
 #include "core/sequence_format.h"
@@ -42,12 +44,17 @@ CameraModel readEurocCamera(const std::string& path, SE3* T_body_camera) {
   const auto k = readNumberList(f, "intrinsics", 4);
   const auto d = readNumberList(f, "distortion_coefficients", 4);
   const auto r = readNumberList(f, "resolution", 2);
+  for (const double side : r)  // converted to int below: a fraction or 1e300 would not survive it
+    if (!(side >= 1 && side <= 100000) || side != std::floor(side))
+      throw InputError(path + ": resolution", "must be two whole numbers of pixels in [1, 100000], got " +
+                                                  std::to_string(r[0]) + ", " + std::to_string(r[1]));
   CameraModel c;
   c.width = static_cast<int>(r[0]);
   c.height = static_cast<int>(r[1]);
   c.fx = k[0], c.fy = k[1], c.cx = k[2], c.cy = k[3];
   c.num_distortion = 4;
   for (int i = 0; i < 4; ++i) c.distortion[i] = d[i];
+  checkPlausibleIntrinsics(c, path, "intrinsics");  // first: its messages name this file's field
   c.check(path);
   const auto T = readNumberList(f, "T_BS", 16);
   Mat3 R;

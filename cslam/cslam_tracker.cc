@@ -24,6 +24,10 @@ void CslamOptions::check() const {
   if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
 }
 
+void CslamOptions::checkImage(cv::Size image) const {
+  requireWithinImage("lk_window_px", lk_window_px, std::min(image.width, image.height), image);
+}
+
 namespace {
 
 // The motion model predicts at most this many frames past the last pose.

@@ -86,6 +86,7 @@ struct CslamOptions {
       "frames that showed the board before self-calibration, posed from their corners once it is done (the last this many)");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the Lucas-Kanade window fits in the image
 };
 
 class CslamTracker : public Tracker {

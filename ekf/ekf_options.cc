@@ -1,5 +1,6 @@
 #include "ekf/ekf_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -37,8 +38,13 @@ void ActiveSearchOptions::check() const {
           "must be odd and at least patch_size, got " + std::to_string(source_size));
 }
 
+void ActiveSearchOptions::checkImage(cv::Size image) const {
+  requireWithinImage("source_size", source_size, std::min(image.width, image.height), image);
+}
+
 void FeatureInitOptions::check() const {
-  require(particles >= 2, "particles", "must be at least 2");
+  // Each initialising ray holds and weighs all of them every frame.
+  require(particles >= 2 && particles <= 100000, "particles", "must be in [2, 100000]");
   require(min_depth > 0 && max_depth > min_depth, "min_depth",
           "need 0 < min_depth < max_depth");
   require(promote_ratio > 0, "promote_ratio", "must be positive");
@@ -51,6 +57,11 @@ void FeatureInitOptions::check() const {
   require(min_visible >= 0, "min_visible", "must not be negative");
   require(box_width >= 16 && box_height >= 16, "box_width", "boxes must be at least 16x16");
   require(min_corner_eigenvalue >= 0, "min_corner_eigenvalue", "must not be negative");
+}
+
+void FeatureInitOptions::checkImage(cv::Size image) const {
+  requireWithinImage("box_width", box_width, image.width, image);
+  requireWithinImage("box_height", box_height, image.height, image);
 }
 
 void MapManagementOptions::check() const {

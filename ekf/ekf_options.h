@@ -62,6 +62,7 @@ struct ActiveSearchOptions {
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the crops fit in the image
 };
 
 struct FeatureInitOptions {
@@ -97,6 +98,7 @@ struct FeatureInitOptions {
     v("seed", seed, "random seed of the boxes searched for new corners (runs are repeatable)");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the box fits in the image
 };
 
 struct MapManagementOptions {

@@ -8,6 +8,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "core/error.h"
+#include "core/options.h"
 #include "ekf/measurement_model.h"
 #include "geometry/homography_pose.h"
 
@@ -30,6 +31,12 @@ void BoardCornerMeasurementOptions::check() const {
   if (!(reanchor_orientation_sigma >= 0 && reanchor_orientation_sigma < 1))
     throw OptionError("reanchor_orientation_sigma", "must be in [0, 1)");
   if (border_px < 0 || border_px > 100) throw OptionError("border_px", "must be in [0, 100]");
+}
+
+void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
+  const int side = std::min(image.width, image.height);
+  requireWithinImage("lk_window_px", lk_window_px, side, image);
+  requireWithinImage("border_px", border_px, (side - 1) / 2, image);  // some image left inside the border
 }
 
 namespace {
@@ -246,8 +253,11 @@ bool BoardCornerMeasurer::withinGate(const CornerPrediction& p, const Vec2& meas
 }
 
 int BoardCornerMeasurer::refineHalfWindow(double square_px) const {
-  // A window under half a square, as for the detector's refinement (SPEC section 6).
-  return std::clamp(static_cast<int>(0.4 * square_px), 2, options_.detector.max_refine_half_window);
+  // A window under half a square, as for the detector's refinement (SPEC section 6). Compared as a
+  // double: a diverged filter's square can be huge or NaN, beyond int.
+  const double half = 0.4 * square_px;
+  if (!(half < options_.detector.max_refine_half_window)) return options_.detector.max_refine_half_window;
+  return std::max(2, static_cast<int>(half));
 }
 
 std::vector<double> BoardCornerMeasurer::planeErrorsPx(const std::vector<int>& ids, const std::vector<Vec2>& z) const {

@@ -55,6 +55,7 @@ struct BoardCornerMeasurementOptions {
     v("detector", detector, "the board search where the filter predicts the board");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the window and the border fit in the image
 };
 
 struct BoardCornerMeasurement {

@@ -4,13 +4,15 @@
 # from the seeds in fuzz/seeds/<target>. A crash leaves its input in build-fuzz/crashes/<target>/
 # (turn it into a case of tests/bad_inputs) and makes the script fail.
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET (default 60)] [TARGET ...]
-#   targets: sequence_list trajectory camera_yaml target_yaml frames_csv (default: all)
+#   targets: sequence_list trajectory camera_yaml target_yaml frames_csv options cli run (default: all)
+#   FUZZ_FLAGS: more libFuzzer flags, e.g. "-fork=1 -ignore_crashes=1" to go on past a crash and
+#   collect every one in the time given.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(sequence_list trajectory camera_yaml target_yaml frames_csv)
+[ ${#targets[@]} -gt 0 ] || targets=(sequence_list trajectory camera_yaml target_yaml frames_csv options cli run)
 
 # clang and its libFuzzer runtime, installed if missing (Debian 12: clang 14).
 probe=$(mktemp -d)
@@ -35,7 +37,8 @@ for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$build/crashes/$t"
   log="$build/fuzz_$t.log"
   echo "fuzzing $t for ${seconds} s (log: $log)"
-  if "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  # shellcheck disable=SC2086  # FUZZ_FLAGS is a list of flags
+  if "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 ${FUZZ_FLAGS:-} \
        -artifact_prefix="$build/crashes/$t/" "$build/corpus/$t" "fuzz/seeds/$t" > "$log" 2>&1; then
     result="ok"
   else
@@ -43,6 +46,7 @@ for t in "${targets[@]}"; do
     status=1
   fi
   runs=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | tail -n 1 || true)
+  [ -n "$runs" ] || runs=$(grep -o '#[0-9]*: cov: [0-9]* ft: [0-9]* corp: [0-9]*/[0-9]*[a-zA-Z]* exec/s: [0-9]*' "$log" | tail -n 1 || true)
   summary+="$t: $result; ${runs:-no run count (see log)}; corpus $(ls "$build/corpus/$t" | wc -l) inputs"$'\n'
 done
 printf '%s' "$summary"

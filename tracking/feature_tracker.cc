@@ -6,6 +6,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "core/error.h"
+#include "core/options.h"
 
 namespace slamcmp {
 
@@ -18,6 +19,13 @@ void FeatureTrackerOptions::check() const {
   if (block_size < 3 || block_size % 2 == 0) throw OptionError("block_size", "must be odd and >= 3");
   if (!(max_forward_backward_px > 0)) throw OptionError("max_forward_backward_px", "must be positive");
   if (border_px < 0) throw OptionError("border_px", "must be >= 0");
+}
+
+void FeatureTrackerOptions::checkImage(cv::Size image) const {
+  const int side = std::min(image.width, image.height);
+  requireWithinImage("block_size", block_size, side, image);
+  requireWithinImage("border_px", border_px, (side - 1) / 2, image);  // the detection mask keeps a pixel
+  requireWithinImage("min_distance_px", min_distance_px, std::max(image.width, image.height), image);
 }
 
 FeatureTracker::FeatureTracker(const FeatureTrackerOptions& options) : options_(options) {}

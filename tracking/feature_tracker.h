@@ -28,6 +28,7 @@ struct FeatureTrackerOptions {
     v("border_px", border_px, "features closer to the image border are dropped, pixels");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the windows, border and spacing fit in the image
 };
 
 struct Feature {

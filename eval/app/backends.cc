@@ -59,13 +59,15 @@ std::string backendsHelp() {
 }
 
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
-                                                   const std::vector<std::string>& sets, std::optional<int> seed) {
+                                                   const std::vector<std::string>& sets, std::optional<int> seed,
+                                                   cv::Size image_size) {
   std::unique_ptr<BackendOptions> options = backend.default_options();
   std::string where = backend.name;
   if (!config_path.empty()) {
     const YamlFile config(config_path);
-    for (const std::string& section : config.root().keys())
-      findBackend(section, config_path + ": " + section);  // a misspelt section is not ignored
+    if (config.root().isMap())  // a file of only the %YAML header holds no section: the defaults
+      for (const std::string& section : config.root().keys())
+        findBackend(section, config_path + ": " + section);  // a misspelt section is not ignored
     where = config_path + ": " + backend.name;
     options->read(config.node(backend.name), where);
   }
@@ -83,6 +85,7 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
     options->set(set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1), "--set " + backend.name);
   }
   options->check(where);
+  if (!image_size.empty()) options->checkAgainstImage(image_size, where);
   return options;
 }
 

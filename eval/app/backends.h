@@ -27,10 +27,12 @@ std::string backendsHelp();
 
 // The back-end's options: defaults, then its section of the YAML file `config_path` ("" = none),
 // then every random seed set to `seed` when given (run --seed), then each `--set section.key=value`
-// naming this back-end, checked. A top-level section of the file that names no back-end, a --set
-// for another back-end, or a seed for a back-end without one is an InputError.
+// naming this back-end, checked, and when `image_size` is given (the sequence's, known once its
+// first frame is read) checked against it too. A top-level section of the file that names no
+// back-end, a --set for another back-end, or a seed for a back-end without one is an InputError.
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
                                                    const std::vector<std::string>& sets,
-                                                   std::optional<int> seed = std::nullopt);
+                                                   std::optional<int> seed = std::nullopt,
+                                                   cv::Size image_size = cv::Size());
 
 }  // namespace slamcmp

@@ -1,17 +1,15 @@
 // slamcmp: runs monocular SLAM back-ends side by side and scores them.
-// Exit codes: 0 done, 2 bad usage or bad input (one line on stderr), 1 internal failure.
+// Exit codes: 0 done, 2 bad usage or bad input (one line on stderr), 1 internal failure, 130 an
+// interrupted compare or reproduce.
 #include <cstdio>
 #include <cstdlib>
-#include <exception>
 #include <iostream>
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/core/utils/logger.hpp>
 
-#include "core/error.h"
-#include "eval/app/commands.h"
-#include "eval/app/compare.h"
+#include "eval/app/cli.h"
 
 int main(int argc, char** argv) {
   // OpenCV's own messages (e.g. from a broken image) must not interleave with ours.
@@ -24,34 +22,6 @@ int main(int argc, char** argv) {
   CLI::App app{
       "slamcmp: runs monocular SLAM back-ends (`slamcmp run --help` lists them) on the same image sequences "
       "and scores them against ground truth."};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "slamcmp 0.1");
-  slamcmp::addSynthCommand(app);
-  slamcmp::addRunCommand(app);
-  slamcmp::addCompareCommand(app);
-  slamcmp::addReproduceCommand(app);
-  slamcmp::addEvalCommand(app);
-  slamcmp::addCalibrateCommand(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
-    return 2;
-  } catch (const slamcmp::CompareInterrupted& e) {
-    std::cerr << "slamcmp: " << e.what() << "\n";
-    return 130;  // as a shell reports a command stopped by Ctrl-C
-  } catch (const slamcmp::InputError& e) {
-    std::cerr << "slamcmp: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "slamcmp: internal error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+  slamcmp::addCommands(app);
+  return slamcmp::runCommandLine(app, argc, argv, std::cout, std::cerr);
 }

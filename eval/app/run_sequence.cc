@@ -1,6 +1,5 @@
 #include "eval/app/run_sequence.h"
 
-#include <atomic>
 #include <chrono>
 #include <csignal>  // sigaction (POSIX)
 #include <iostream>
@@ -8,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/frame_prefetcher.h"
+#include "core/interrupt.h"
 #include "core/map_ply.h"
 #include "core/progress.h"
 #include "core/run_recorder.h"
@@ -24,9 +24,7 @@ namespace slamcmp {
 
 namespace {
 
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void onInterrupt(int) { g_interrupted = true; }
+extern "C" void onInterrupt(int) { requestInterrupt(); }
 
 // TrackerContext.init from "board", "groundtruth", "manual:FILE" or "none".
 void setInitialisation(const std::string& init, const Sequence& seq, TrackerContext* context) {
@@ -66,7 +64,7 @@ void installInterruptHandler() {
     sigaction(signal_number, &action, nullptr);
   }
 }
-bool interrupted() { return g_interrupted; }
+bool interrupted() { return interruptRequested(); }
 
 std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
                           const std::string& mode) {
@@ -104,7 +102,8 @@ nlohmann::json runSequence(const RunRequest& request) {
     throw InputError("--init", backend.name + " takes no --init (its world frame and start come from the board)");
   }
   context.want_overlay = !request.overlay_path.empty() || request.show;
-  const std::unique_ptr<BackendOptions> options = loadBackendOptions(backend, request.config_path, request.sets, request.seed);
+  const std::unique_ptr<BackendOptions> options =
+      loadBackendOptions(backend, request.config_path, request.sets, request.seed, seq.image_size);
   std::unique_ptr<Tracker> tracker = backend.make(context, *options);
   // Created once the options and the back-end are known good: a bad --config leaves no video behind.
   std::optional<OverlayOutput> overlay;
@@ -143,6 +142,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   }
   progress.finish();
   recorder.flush();  // before finish() may throw: the files hold every frame recorded
+  if (recorder.frames() == 0 && interrupted()) throw InputError(seq.path, "interrupted before the first frame");
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
   if (!interrupted() && !quit) {
@@ -154,6 +154,14 @@ nlohmann::json runSequence(const RunRequest& request) {
   }
 
   nlohmann::json extra;
+  // A video cut short (an interrupted copy or download): its container counts more frames than
+  // could be read. The run covers those read; the gap is said, not left to be noticed.
+  if (!interrupted() && !quit && total > 0 && recorder.frames() < total) {
+    extra["frames_expected"] = total;
+    extra["frames_missing"] = total - recorder.frames();
+    std::cerr << seq.path << ": warning: the file says " << total << " frames but only " << recorder.frames()
+              << " could be read (cut short?); the results cover those\n";
+  }
   extra["sequence"] = seq.path;
   extra["mode"] = context.mode;
   if (backend.takes_init) extra["init"] = request.init.empty() ? "board" : request.init;

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
+#include "core/sequence.h"
 
 namespace slamcmp {
 
@@ -46,6 +47,8 @@ OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size, doubl
       throw InputError(path, "'" + extension +
                                  "' is not a supported video container: use .avi, .mp4, .mkv, or a folder name "
                                  "without an extension for PNG frames");
+    if (const std::string why = implausibleFrameRate(fps); !why.empty())
+      throw InputError(path, "cannot be written as a video: " + why);
     if (p.has_parent_path()) createFolder(p.parent_path(), path);
     video_ = mediaPlugin(path).createVideo(path, fourcc, fps, image_size);
     if (!video_) throw InputError(path, "cannot be written as a video");

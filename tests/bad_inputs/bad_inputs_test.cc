@@ -7,9 +7,12 @@
 #include <functional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "core/media_plugin.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -39,19 +42,39 @@ void writeImage(const std::string& path, int width = kWidth, int height = kHeigh
   ASSERT_TRUE(cv::imwrite(path, grey)) << path;
 }
 
-// The first `bytes` bytes of `path`, written back over it (a copy cut short).
-void truncateFile(const std::string& path, size_t bytes) {
+// The bytes of a file ("" if it cannot be read).
+std::string readBytes(const std::string& path) {
   std::string data;
-  {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    ASSERT_NE(f, nullptr) << path;
+  if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
     char buf[4096];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, n);
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) data.append(buf, n);
     std::fclose(f);
   }
+  return data;
+}
+
+// The first `bytes` bytes of `path`, written back over it (a copy cut short).
+void truncateFile(const std::string& path, size_t bytes) {
+  const std::string data = readBytes(path);
   ASSERT_GT(data.size(), bytes) << path;
   writeText(path, data.substr(0, bytes));
+}
+
+// A PNG spoilt inside, not cut short: a byte of its image data flipped (libpng: "IDAT: CRC error"),
+// or a text chunk with a wrong checksum inserted before the image data (libpng only warns).
+void corruptPngData(const std::string& path) {
+  std::string data = readBytes(path);
+  const size_t idat = data.find("IDAT");
+  ASSERT_NE(idat, std::string::npos) << path;
+  data[idat + 20] = static_cast<char>(data[idat + 20] ^ 0xFF);
+  writeText(path, data);
+}
+void insertPngTextChunkWithBadCrc(const std::string& path) {
+  std::string data = readBytes(path);
+  const size_t idat = data.find("IDAT");
+  ASSERT_NE(idat, std::string::npos) << path;
+  data.insert(idat - 4, std::string("\0\0\0\3tEXtk\0v\0\0\0\0", 15));
+  writeText(path, data);
 }
 
 // A valid TUM-style sequence of three frames in `dir`: rgb/, rgb.txt, camera.yaml, target.yaml,
@@ -115,15 +138,35 @@ BadCase yamlCase(const std::string& name, const std::string& file, const std::st
                  {"seq/" + file, field});
 }
 
-// slamcmp run with --config holding `text`.
-BadCase configCase(const std::string& name, const std::string& text, const std::string& field) {
+// slamcmp run of `backend` with --config holding `text`; the line names the file, `field` and
+// anything in `more`.
+BadCase configCase(const std::string& name, const std::string& text, const std::string& field,
+                   const std::string& backend = "cslam", const std::vector<std::string>& more = {}) {
   return {name, [=](const TempDir& tmp) {
             writeSequence(tmp.file("seq"));
             writeText(tmp.file("run.yaml"), text);
-            return Invocation{"run --backend cslam --sequence " + tmp.file("seq") + " --out " +
+            std::vector<std::string> mention{tmp.file("run.yaml"), field};
+            mention.insert(mention.end(), more.begin(), more.end());
+            return Invocation{"run --backend " + backend + " --sequence " + tmp.file("seq") + " --out " +
                                   tmp.file("out") + " --config " + tmp.file("run.yaml"),
-                              {tmp.file("run.yaml"), field}};
+                              mention};
           }};
+}
+
+// An option bounded by the tiny sequence's 160x120 images, set too large in a --config.
+BadCase imageBoundCase(const std::string& name, const std::string& backend, const std::string& yaml_path,
+                       const std::string& value, const std::string& limit) {
+  // "search.source_size" -> "search:\n    source_size: V"
+  std::string yaml = "%YAML:1.0\n---\n" + backend + ":\n", indent = "  ";
+  for (size_t start = 0;;) {
+    const size_t dot = yaml_path.find('.', start);
+    yaml += indent + yaml_path.substr(start, dot - start) + ":" + (dot == std::string::npos ? " " + value + "\n" : "\n");
+    if (dot == std::string::npos) break;
+    indent += "  ";
+    start = dot + 1;
+  }
+  return configCase(name, yaml, backend + "." + yaml_path,  backend,
+                    {"must be at most " + limit + " px for 160x120 images, got " + value});
 }
 
 // slamcmp eval of an estimate holding `text` (named `file`) against a valid ground truth.
@@ -158,8 +201,10 @@ std::string cameraWithDt(bool distortion, const std::string& dt) {
   return text.replace(at, 5, "dt: " + dt);
 }
 
-// slamcmp run on a EuRoC folder in tmp whose cam0/sensor.yaml holds `t_bs` (16 numbers).
-BadCase eurocSensorCase(const std::string& name, const std::string& t_bs) {
+// slamcmp run on a EuRoC folder in tmp whose cam0/sensor.yaml holds these values; the line names
+// sensor.yaml's `field` and says `what`.
+BadCase eurocSensorYamlCase(const std::string& name, const std::string& t_bs, const std::string& resolution,
+                            const std::string& intrinsics, const std::string& field, const std::string& what) {
   return {name, [=](const TempDir& tmp) {
             const std::string cam = tmp.file("mav0/cam0");
             std::filesystem::create_directories(cam + "/data");
@@ -168,11 +213,22 @@ BadCase eurocSensorCase(const std::string& name, const std::string& t_bs) {
             writeText(cam + "/data.csv", "#timestamp [ns],filename\n1000000000,1.png\n1050000000,2.png\n");
             writeText(cam + "/sensor.yaml",
                       "%YAML:1.0\nsensor_type: camera\nT_BS:\n  cols: 4\n  rows: 4\n  data: [" + t_bs +
-                          "]\nresolution: [160, 120]\nintrinsics: [150, 150, 79.5, 59.5]\n"
+                          "]\nresolution: [" + resolution + "]\nintrinsics: [" + intrinsics + "]\n"
                           "distortion_coefficients: [0, 0, 0, 0]\n");
             return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
-                              {cam + "/sensor.yaml: T_BS", "not a rotation"}};
+                              {cam + "/sensor.yaml: " + field, what}};
           }};
+}
+const char* kIdentity4 = "1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1";
+BadCase eurocSensorCase(const std::string& name, const std::string& t_bs) {
+  return eurocSensorYamlCase(name, t_bs, "160, 120", "150, 150, 79.5, 59.5", "T_BS", "not a rotation");
+}
+BadCase eurocIntrinsicsCase(const std::string& name, const std::string& intrinsics, const std::string& what) {
+  return eurocSensorYamlCase(name, kIdentity4, "160, 120", intrinsics, "intrinsics", what);
+}
+BadCase eurocResolutionCase(const std::string& name, const std::string& resolution) {
+  return eurocSensorYamlCase(name, kIdentity4, resolution, "150, 150, 79.5, 59.5", "resolution",
+                             "must be two whole numbers of pixels");
 }
 
 // A command line whose option `option` is given as '' (an unset shell variable): a usage error.
@@ -577,6 +633,74 @@ std::vector<BadCase> cases() {
       eurocSensorCase("EurocTbsAllZeros", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1"),
       eurocSensorCase("EurocTbsScaled", "2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1"),
       eurocSensorCase("EurocTbsReflection", "1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1"),
+      // Issue 16: sensor.yaml's numbers are checked as camera.yaml's are.
+      eurocIntrinsicsCase("EurocFocalTiny", "0.5, 150, 79.5, 59.5", "fx 0.5 px is not plausible for 160x120 images"),
+      eurocIntrinsicsCase("EurocFocalHuge", "150, 1e9, 79.5, 59.5", "fy 1e+09 px is not plausible"),
+      eurocIntrinsicsCase("EurocFocalNegative", "-150, 150, 79.5, 59.5", "fx -150 px is not plausible"),
+      eurocIntrinsicsCase("EurocFocalNaN", "150, .nan, 79.5, 59.5", "must be finite"),
+      eurocIntrinsicsCase("EurocPrincipalPointFarLeft", "150, 150, -900, 59.5", "cx -900 px is far outside"),
+      eurocResolutionCase("EurocResolutionFraction", "160.5, 120"),
+      eurocResolutionCase("EurocResolutionHuge", "1e300, 120"),
+      eurocResolutionCase("EurocResolutionZero", "160, 0"),
+      // Issue 16: windows, borders, patches and distances bounded by the image size (here 160x120),
+      // checked once the first frame is read (they made OpenCV allocate without limit or fail an
+      // assertion on a region of interest).
+      imageBoundCase("MonoslamPatchSourceLargerThanImages", "monoslam", "search.source_size", "301", "120"),
+      imageBoundCase("MonoslamCornerBoxWiderThanImages", "monoslam", "feature_init.box_width", "400", "160"),
+      imageBoundCase("MonoslamCornerBoxTallerThanImages", "monoslam", "feature_init.box_height", "121", "120"),
+      imageBoundCase("MonoslamRefineWindowLargerThanImages", "monoslam", "board.max_refine_half_window", "100000",
+                     "57"),
+      imageBoundCase("HybridBorderAcrossTheImage", "hybrid", "corners.border_px", "60", "59"),
+      imageBoundCase("HybridRefineWindowLargerThanImages", "hybrid", "corners.detector.max_refine_half_window",
+                     "58", "57"),
+      imageBoundCase("CslamLkWindowLargerThanImages", "cslam", "lk_window_px", "100001", "120"),
+      imageBoundCase("CslamFeatureBorderAcrossTheImage", "cslam", "features.border_px", "70", "59"),
+      imageBoundCase("CslamFeatureBlockLargerThanImages", "cslam", "features.block_size", "2001", "120"),
+      imageBoundCase("CslamFeatureSpacingBeyondTheImage", "cslam", "features.min_distance_px", "1e+300", "160"),
+      imageBoundCase("CslamRefineWindowLargerThanImages", "cslam", "board.detector.max_refine_half_window",
+                     "2147483647", "57"),
+      // Found by fuzz_options: a --config of only the %YAML header made OpenCV assert listing the
+      // sections of an empty document (exit 1); it holds none, so the defaults run (and this tiny
+      // sequence ends without the board).
+      runCase(
+          "ConfigHeaderOnly", [](const std::string& seq) { writeText(seq + "/run.yaml", "%YAML:1.0\n"); },
+          {"the board never appeared"}, "--config {seq}/run.yaml"),
+      // ... and those no image size makes sensible: memory for every initialising ray.
+      configCase("MonoslamParticlesAbsurd", "%YAML:1.0\n---\nmonoslam:\n  feature_init:\n    particles: 2000000000\n",
+                 "monoslam.feature_init.particles", "monoslam", {"must be in [2, 100000]"}),
+      // Issue 16: a corrupt image says our one line, with the decoder's complaint in it; libpng's
+      // and libjpeg's own lines are captured, not printed.
+      runCase("FirstImageCorruptPngData", [](const std::string& seq) { corruptPngData(seq + "/rgb/0.png"); },
+              {"seq/rgb/0.png", "cannot be decoded as an image (libpng error: IDAT"}),
+      runCase("FirstImageCorruptJpegData",
+              [](const std::string& seq) {
+                cv::Mat noise(kHeight, kWidth, CV_8UC1);
+                cv::randu(noise, 0, 255);
+                ASSERT_TRUE(cv::imwrite(seq + "/rgb/0.jpg", noise));
+                std::string data = readBytes(seq + "/rgb/0.jpg");
+                for (size_t i = 1000; i < 1100; ++i) data[i] = '\0';  // inside the scan, its end marker kept
+                writeText(seq + "/rgb/0.jpg", data);
+                writeText(seq + "/rgb.txt", "0.0 rgb/0.jpg\n0.1 rgb/1.png\n");
+              },
+              {"seq/rgb/0.jpg", "cannot be decoded as an image (Corrupt JPEG data"}),
+      // A PNG libpng only warns about is whole: read without its warning (this tiny sequence then
+      // ends without the board, the one line).
+      runCase("PngWarningIsNotPrinted",
+              [](const std::string& seq) {
+                for (int i = 0; i < 3; ++i) insertPngTextChunkWithBadCrc(seq + "/rgb/" + std::to_string(i) + ".png");
+              },
+              {"the board never appeared"}),
+      // Issue 16: --overlay on timestamps in another unit than seconds names the frame rate they imply.
+      runCase(
+          "OverlayOnNanosecondTimestamps",
+          [](const std::string& seq) {
+            writeText(seq + "/rgb.txt", "1000000000 rgb/0.png\n1100000000 rgb/1.png\n1200000000 rgb/2.png\n");
+          },
+          {"seq/clip.avi", "imply 1e-08 fps", "nanoseconds (1e+09 times seconds)"}, "--overlay {seq}/clip.avi"),
+      runCase(
+          "OverlayOnMillisecondTimestamps",
+          [](const std::string& seq) { writeText(seq + "/rgb.txt", "0 rgb/0.png\n100 rgb/1.png\n200 rgb/2.png\n"); },
+          {"seq/clip.avi", "imply 0.01 fps", "milliseconds (1000 times seconds)"}, "--overlay {seq}/clip.avi"),
   };
 }
 
@@ -632,6 +756,42 @@ TEST(SymmetricBoard, RunWarnsOnceAndGoesOn) {
         << r.err;
     EXPECT_NE(r.err.find("the board never appeared"), std::string::npos) << r.err;
   }
+}
+
+// A video cut short (an interrupted copy): the run covers the frames that could be read, and says
+// how many the file promised, on stderr and in summary.json (issue 16; it ended with exit 0 and
+// nothing said).
+TEST(TruncatedVideo, MissingFramesAreReported) {
+  TempDir tmp;
+  const auto rendered = test::runSlamcmp("synth --preset tv1 --frames 20 --supersample 1 --out " + tmp.file("tv1"));
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  const std::string video = tmp.file("clip.avi");
+  {
+    const cv::Mat first = cv::imread(tmp.file("tv1/rgb/000000.png"));
+    auto writer = mediaPlugin(video).createVideo(video, "MJPG", 10, first.size());
+    ASSERT_NE(writer, nullptr);
+    for (int i = 0; i < 20; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "tv1/rgb/%06d.png", i);
+      writer->write(cv::imread(tmp.file(name)));
+    }
+  }
+  truncateFile(video, readBytes(video).size() / 2);
+  if (HasFatalFailure()) return;
+  const std::string out = tmp.file("out");
+  const test::CommandResult r = test::runSlamcmp("run --backend cslam --sequence " + video + " --camera " +
+                                                 tmp.file("tv1/camera.yaml") + " --target " +
+                                                 tmp.file("tv1/target.yaml") + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream file(out + "/summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(file);
+  const int frames = summary["frames"].get<int>();
+  EXPECT_GE(frames, 3);
+  EXPECT_LT(frames, 20);
+  EXPECT_EQ(summary["frames_expected"], 20);
+  EXPECT_EQ(summary["frames_missing"], 20 - frames);
+  EXPECT_EQ(r.err, video + ": warning: the file says 20 frames but only " + std::to_string(frames) +
+                       " could be read (cut short?); the results cover those\n");
 }
 
 }  // namespace

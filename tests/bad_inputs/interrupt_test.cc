@@ -2,10 +2,12 @@
 // (issue 7): the run stops at the next frame and leaves a valid trajectory.txt, frames.csv and
 // summary.json ("interrupted": true) for the frames done.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -133,6 +135,46 @@ void expectValidOutputsAfter(int signal_number) {
 TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGINT); }
 TEST(Interrupt, SigtermLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGTERM); }
 TEST(Interrupt, SighupLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGHUP); }
+
+// Ctrl-C while rgb.txt is still being read (here a pipe the test feeds line by line; a list of a
+// million lines on a slow disk alike): the run says it was interrupted, at the line it reached,
+// never that the sequence has no frames.
+TEST(Interrupt, WhileTheListIsBeingReadSaysSo) {
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  ASSERT_NE(bin, nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = tmp.file("seq");
+  std::filesystem::create_directories(seq + "/rgb");
+  const auto rendered = test::runSlamcmp("synth --preset tv1 --frames 1 --supersample 1 --out " + tmp.file("tv1"));
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  std::filesystem::copy_file(tmp.file("tv1/rgb/000000.png"), seq + "/rgb/0.png");
+  ASSERT_EQ(mkfifo((seq + "/rgb.txt").c_str(), 0644), 0);
+
+  const pid_t pid = spawn({bin, "run", "--backend", "cslam", "--sequence", seq, "--out", tmp.file("out")},
+                          tmp.file("stdout"), tmp.file("stderr"));
+  ASSERT_GT(pid, 0);
+  const auto previous = std::signal(SIGPIPE, SIG_IGN);  // should the run end before the pipe does
+  const int list = open((seq + "/rgb.txt").c_str(), O_WRONLY);  // once the run opens it to read
+  ASSERT_GE(list, 0);
+  const std::string first = "0.0 rgb/0.png\n", second = "0.1 rgb/0.png\n";
+  EXPECT_EQ(write(list, first.data(), first.size()), static_cast<ssize_t>(first.size()));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the run waits for line 2
+  kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(write(list, second.data(), second.size()), static_cast<ssize_t>(second.size()));
+  close(list);
+  std::signal(SIGPIPE, previous);
+
+  const int code = waitExit(pid, std::chrono::seconds(60));
+  std::stringstream stream;
+  stream << std::ifstream(tmp.file("stderr")).rdbuf();
+  const std::string err = stream.str();
+  EXPECT_EQ(code, 2) << err;
+  // At line 2, unless the machine was too busy to read line 1 before the signal came.
+  EXPECT_EQ(err.rfind("slamcmp: " + seq + "/rgb.txt:", 0), 0u) << err;
+  EXPECT_NE(err.find(": interrupted while the list was being read\n"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+}
 
 }  // namespace
 }  // namespace slamcmp

@@ -151,5 +151,40 @@ TEST(Options, JsonRoundTripThroughYaml) {
   EXPECT_NE(text.find("  patch_size: 11  # pixels, odd"), std::string::npos) << text;
 }
 
+// A struct bounded by the image size, nested two levels down: checkOptionsAgainstImage finds it
+// and names its full path and the size; a struct without checkImage is skipped.
+struct WindowOptions {
+  int window_px = 21;
+  template <class V>
+  void visit(V& v) {
+    v("window_px", window_px, "pixels");
+  }
+  void check() const {}
+  void checkImage(cv::Size image) const { requireWithinImage("window_px", window_px, image.height, image); }
+};
+struct TrackerOptions {
+  WindowOptions lk;
+  SearchOptions search;
+  template <class V>
+  void visit(V& v) {
+    v("lk", lk, "optical flow");
+    v("search", search, "active search");
+  }
+  void check() const {}
+};
+
+TEST(Options, ImageBoundsAreCheckedWhereverNested) {
+  TrackerOptions o;
+  EXPECT_NO_THROW(checkOptionsAgainstImage(o, cv::Size(160, 120), "run.yaml: cslam"));
+  o.lk.window_px = 121;
+  try {
+    checkOptionsAgainstImage(o, cv::Size(160, 120), "run.yaml: cslam");
+    FAIL() << "a window taller than the image was accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "run.yaml: cslam.lk.window_px: must be at most 120 px for 160x120 images, got 121");
+  }
+  EXPECT_NO_THROW(checkOptionsAgainstImage(o, cv::Size(640, 480), "cslam"));
+}
+
 }  // namespace
 }  // namespace slamcmp
