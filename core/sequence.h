@@ -60,6 +60,9 @@ struct SequenceOpenOptions {
   std::string target_path;  // overrides target.yaml beside the sequence
   double images_fps = 30.0;  // timestamps for a plain image folder (frame index / fps)
   bool allow_symmetric_target = false;  // calibrate and run: see ChessboardTarget::symmetric
+  // An interrupt (core/interrupt.h) ends the reading of a long image list; compare's collect, which
+  // reads the sequences after its runs were interrupted, reads on.
+  bool stop_on_interrupt = true;
 };
 
 // Throws InputError for anything missing or malformed; reads the first frame to learn (and check)

@@ -77,7 +77,8 @@ class EurocFormat : public SequenceFormat {
   bool detect(const fs::path& path) const override { return !eurocCameraFolder(path).empty(); }
   Sequence open(const fs::path& path, const SequenceOpenOptions& options) const override {
     const fs::path cam = eurocCameraFolder(path);
-    std::vector<ImageEntry> entries = readImageList(cam / "data.csv", {"timestamp,filename", ',', 1e9, cam / "data"});
+    std::vector<ImageEntry> entries =
+        readImageList(cam / "data.csv", {"timestamp,filename", ',', 1e9, cam / "data", options.stop_on_interrupt});
     const double fps = medianRate(entries);
     Sequence seq = imageListSequence(std::move(entries), fps);
     SE3 T_body_camera;

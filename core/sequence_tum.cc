@@ -15,8 +15,9 @@ class TumFormat : public SequenceFormat {
     std::error_code ec;
     return fs::is_directory(path, ec) && pathExists(path / "rgb.txt");
   }
-  Sequence open(const fs::path& path, const SequenceOpenOptions& /*options*/) const override {
-    std::vector<ImageEntry> entries = readImageList(path / "rgb.txt", {"timestamp path", ' ', 1.0, path});
+  Sequence open(const fs::path& path, const SequenceOpenOptions& options) const override {
+    std::vector<ImageEntry> entries =
+        readImageList(path / "rgb.txt", {"timestamp path", ' ', 1.0, path, options.stop_on_interrupt});
     const double fps = medianRate(entries);
     return imageListSequence(std::move(entries), fps);
   }

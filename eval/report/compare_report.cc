@@ -29,7 +29,9 @@ std::string fmt(double v, int precision) {
 }
 
 SequenceInfo readSequenceInfo(const std::string& path) {
-  Sequence s = openSequence(path);
+  SequenceOpenOptions options;
+  options.stop_on_interrupt = false;  // collected after an interrupt too
+  Sequence s = openSequence(path, options);
   SequenceInfo info{path, s.name, s.frames->size(), s.groundtruth, std::nullopt};
   if (const std::string scene = sceneFileOf(path); !scene.empty()) info.scene = readSceneYaml(scene);
   return info;
