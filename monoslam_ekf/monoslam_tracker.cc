@@ -71,11 +71,7 @@ bool MonoslamTracker::startWithoutMap(const Frame& frame, std::string* reason) {
   P0.diagonal().segment<3>(EkfState::kV).setConstant(s.velocity_sigma * s.velocity_sigma);
   P0.diagonal().segment<3>(EkfState::kW).setConstant(s.angular_velocity_sigma * s.angular_velocity_sigma);
   slam_.reset(SE3(), P0);
-  running_ = true;
-  ever_started_ = true;
-  reporting_.reset();
-  frames_unmeasured_ = 0;
-  last_timestamp_ = frame.timestamp;
+  started(frame.timestamp);
   return true;
 }
 
@@ -131,12 +127,16 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
     }
     slam_.addKnownPoint(frame.grey, uv, corners_world[k], Vec3(0, 0, -1));  // printed face towards -z
   }
+  started(frame.timestamp);
+  return true;
+}
+
+void MonoslamTracker::started(double timestamp) {
   running_ = true;
   ever_started_ = true;
   reporting_.reset();
   frames_unmeasured_ = 0;
-  last_timestamp_ = frame.timestamp;
-  return true;
+  last_timestamp_ = timestamp;
 }
 
 std::string MonoslamTracker::divergence() const {

@@ -31,6 +31,7 @@ class MonoslamTracker : public Tracker {
  private:
   bool start(const Frame& frame, std::string* reason);
   bool startWithoutMap(const Frame& frame, std::string* reason);  // --init none
+  void started(double timestamp);  // the filter runs from this frame on
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
 
   CameraModel camera_;
