@@ -1,6 +1,8 @@
 #include "tests/test_util.h"
 
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -55,6 +57,19 @@ CommandResult runSlamcmp(const std::string& args) {
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
+}
+
+void writeLoopedSequence(const std::string& dir, const std::string& rendered_name, int rendered, int frames) {
+  const std::filesystem::path source = std::filesystem::path(dir).parent_path() / rendered_name;
+  std::filesystem::create_directories(dir);
+  for (const char* f : {"camera.yaml", "target.yaml"}) std::filesystem::copy_file(source / f, dir + "/" + f);
+  std::ostringstream list;
+  for (int i = 0; i < frames; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", i % rendered);
+    list << 0.1 * i << " ../" << rendered_name << "/rgb/" << name << "\n";
+  }
+  writeText(dir + "/rgb.txt", list.str());
 }
 
 Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,

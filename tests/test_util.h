@@ -44,6 +44,10 @@ CommandResult runSlamcmp(const std::string& args);
 
 // Writes `text` to `path`.
 void writeText(const std::string& path, const std::string& text);
+// A sequence folder `dir` that plays the first `rendered` frames of the rendered sequence beside
+// it (`../<rendered_name>`, whose camera.yaml and target.yaml it copies) over and over, `frames` in
+// all at 10 fps: a run long enough to be still going when a test interrupts it.
+void writeLoopedSequence(const std::string& dir, const std::string& rendered_name, int rendered, int frames);
 // The lines of a text file (none if it cannot be read).
 std::vector<std::string> readLines(const std::string& path);
 

@@ -10,12 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -84,16 +82,7 @@ void expectValidOutputsAfter(int signal_number) {
   // A long sequence from the 60 rendered frames, played forth 20 times (1200 frames): long enough
   // that the run is still going when the signal arrives, however fast the back-end.
   const std::string seq = tmp.file("long");
-  std::filesystem::create_directories(seq);
-  std::filesystem::copy_file(tmp.file("tv1/camera.yaml"), seq + "/camera.yaml");
-  std::filesystem::copy_file(tmp.file("tv1/target.yaml"), seq + "/target.yaml");
-  std::ostringstream list;
-  for (int i = 0; i < 1200; ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.png", i % 60);
-    list << 0.1 * i << " ../tv1/rgb/" << name << "\n";
-  }
-  test::writeText(seq + "/rgb.txt", list.str());
+  test::writeLoopedSequence(seq, "tv1", 60, 1200);
 
   const std::string out = tmp.file("run");
   const pid_t pid = spawn({bin, "run", "--backend", "cslam", "--sequence", seq, "--out", out},

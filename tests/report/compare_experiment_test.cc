@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -271,15 +270,7 @@ TEST(CompareExperiment, InterruptedCompareMarksItsRunsAndFails) {
   renderTv1(tmp, 40);
   // 2000 frames played from the 40 rendered: still running when the signal comes.
   const std::string seq = tmp.file("long");
-  fs::create_directories(seq);
-  for (const char* f : {"camera.yaml", "target.yaml"}) fs::copy_file(tmp.file(std::string("tv1/") + f), seq + "/" + f);
-  std::ostringstream list;
-  for (int i = 0; i < 2000; ++i) {
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.png", i % 40);
-    list << 0.1 * i << " ../tv1/rgb/" << name << "\n";
-  }
-  test::writeText(seq + "/rgb.txt", list.str());
+  test::writeLoopedSequence(seq, "tv1", 40, 2000);
 
   const std::string out = tmp.file("out");
   const pid_t pid = fork();
