@@ -98,6 +98,8 @@ void CslamTracker::makeMap() {
   map_ = std::make_unique<FeatureMap>(options_.map, focal_px_);
   if (mode_ == Mode::Combined && options_.refinement.enabled)
     window_ = std::make_unique<KeyframeWindow>(options_.refinement, focal_px_, corners_world_);
+  // Combined mode always has a pose to predict the board from (the refined map's).
+  if (mode_ != Mode::Combined && options_.board_motion.enabled) board_motion_.emplace(options_.board_motion, focal_px_);
 }
 
 std::optional<Vec3> CslamTracker::mapPosition(int feature_id) const {
@@ -143,10 +145,10 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
                                                                       FrameResult* result) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   // A full search costs up to seconds on a cluttered frame with part of the board or none: skip it
-  // while the last pose says the board is not well inside the image.
+  // while the last pose (else the predicted one) says the board is not well inside the image.
   bool board_expected = true;
-  if (last_pose_) {
-    const SE3 T_camera_world = last_pose_->inverse();
+  if (const std::optional<SE3>& T_world_last = last_pose_ ? last_pose_ : T_world_predicted) {
+    const SE3 T_camera_world = T_world_last->inverse();
     for (const Vec3& p : target_.outerCornersWorld()) {
       const Vec3 p_camera = T_camera_world * p;
       board_expected = board_expected && p_camera.z() > 0 &&
@@ -154,19 +156,27 @@ std::optional<CslamTracker::BoardView> CslamTracker::boardPoseInFrame(const cv::
     }
   }
   // The corners are tracked from where the predicted pose puts them, and a lost board is looked
-  // for there (a symmetric board's origin is kept by continuity with it); the last posed frame's
-  // pose stands in when this one cannot be predicted.
-  const SE3* T_world_reference = T_world_predicted   ? &*T_world_predicted
-                                 : history_.empty() ? nullptr
-                                                    : &history_.back().T_world_camera;
+  // for there (a symmetric board's origin is kept by continuity with it). Without a pose, where
+  // the image's motion carried the board's last view; else the last posed frame's pose.
+  const SE3* T_world_reference = T_world_predicted ? &*T_world_predicted : nullptr;
+  std::vector<cv::Point2f> uv_predicted;
+  if (!T_world_reference && !last_pose_ && board_motion_ && board_motion_->predicting()) {
+    // The tracker searches the region where they put the board, the whole image only now and then.
+    uv_predicted = board_motion_->corners(*camera_, corners_world_);
+    board_expected = true;
+  } else if (!T_world_reference && !history_.empty()) {
+    T_world_reference = &history_.back().T_world_camera;
+  }
   auto corners = board_.findCorners(grey, pyramid_prev_, pyramid_, window, options_.lk_levels, *camera_,
-                                    T_world_reference, board_expected);
+                                    T_world_reference, board_expected, uv_predicted.empty() ? nullptr : &uv_predicted);
   if (!corners) return std::nullopt;
   result->measured = static_cast<int>(corners->ids.size());
   if (!corners->complete)
     result->reason = "part of the board (" + std::to_string(corners->ids.size()) + " of " +
                      std::to_string(target_.numCorners()) + " corners)";
-  return boardView(std::move(*corners));
+  BoardView view = boardView(std::move(*corners));
+  if (board_motion_) board_motion_->seen(view.p_world, view.xy);
+  return view;
 }
 
 CslamTracker::BoardView CslamTracker::boardView(BoardCorners corners) const {
@@ -492,6 +502,24 @@ FrameResult CslamTracker::track(const Frame& frame) {
   T_world_predicted_ = motionPrediction(frame.index);
   const std::optional<SE3>& T_world_predicted = T_world_predicted_;
 
+  // The features first: their motion carries a prediction of the board when no pose does.
+  std::vector<Vec2> xy;
+  {
+    const StageTimer timer(&result.stages, "features");
+    if (!pyramid_prev_.empty()) {
+      std::vector<cv::Point2f> predicted;
+      if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
+      features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
+    }
+    xy = featuresNormalised();
+    if (board_motion_) {
+      std::unordered_map<int, Vec2> xy_current;
+      for (size_t i = 0; i < xy.size(); ++i) xy_current.emplace(features_.features()[i].id, xy[i]);
+      board_motion_->advance(xy_previous_, xy_current);
+      xy_previous_ = std::move(xy_current);
+    }
+  }
+
   std::optional<SE3> T_world_camera;
   const bool use_board = mode_ != Mode::TwoView || two_view_board_phase_;
   std::optional<BoardView> board;
@@ -504,22 +532,12 @@ FrameResult CslamTracker::track(const Frame& frame) {
     }
   }
 
-  std::vector<Vec2> xy;
-  {
-    const StageTimer timer(&result.stages, "features");
-    if (!pyramid_prev_.empty()) {
-      std::vector<cv::Point2f> predicted;
-      if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
-      features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
-    }
-    xy = featuresNormalised();
-  }
-
   {
     const StageTimer timer(&result.stages, "motion");
     if (!T_world_camera) {
       if (mode_ == Mode::Calibration) {
-        result.reason = "no board";
+        // Without the whole image searched, say so: the board may be there, unseen.
+        result.reason = board_.lastSearchedWholeImage() ? "no board" : "no board (searched only where predicted)";
       } else if (history_.empty()) {
         result.reason = "no board yet: the world frame is not set";
       } else if ((T_world_camera = twoViewPose(xy, &result))) {

@@ -24,6 +24,7 @@
 #include "core/backend_registry.h"
 #include "core/tracker.h"
 #include "tracking/board_corner_tracker.h"
+#include "cslam/board_image_motion.h"
 #include "cslam/board_odometry_fusion.h"
 #include "cslam/feature_map.h"
 #include "cslam/keyframe_window.h"
@@ -40,6 +41,7 @@ struct CslamOptions {
   int lk_window_px = 9;
   int lk_levels = 3;      // pyramid levels above the image
   BoardCornerTrackerOptions board;
+  BoardImageMotionOptions board_motion;
   BoardPoseOptions board_pose;
   FeatureTrackerOptions features;
   double max_epipolar_error_px = 1.0;  // board frames: features farther from their epipolar line are dropped
@@ -60,6 +62,8 @@ struct CslamOptions {
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels (board corners and features)");
     v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
     v("board", board, "finding the board: tracking, confirmation, full search");
+    v("board_motion", board_motion,
+      "calibration and two_view modes: the board predicted by the image's motion while no pose predicts it");
     v("board_pose", board_pose, "pose from the board homography (thesis eqs. 3.1 to 3.17)");
     v("features", features, "Shi-Tomasi features and their Lucas-Kanade tracking");
     v("max_epipolar_error_px", max_epipolar_error_px,
@@ -191,6 +195,9 @@ class CslamTracker : public Tracker {
   std::unique_ptr<FeatureMap> map_;        // the thesis's map (in combined mode, for the fusion's motion)
   std::unique_ptr<KeyframeWindow> window_;  // combined mode's refined map
   std::unique_ptr<SelfCalibrator> calibrator_;
+  // Calibration and two_view modes: where the board is while no pose says so.
+  std::optional<BoardImageMotion> board_motion_;
+  std::unordered_map<int, Vec2> xy_previous_;  // the previous frame's features by id (for board_motion_)
   int calibration_frames_ = 0;
   struct GatheredCorners {
     int frame_index;

@@ -33,6 +33,10 @@ struct BoardCornerTrackerOptions {
   double max_corner_error_px = 0.3;    // findCorners: a corner the homography misses by more is dropped
   double max_refine_shift_px = 2.0;    // confirm: sub-pixel refinement moves no corner further
   int search_interval_when_lost = 3;   // after a miss, full search only every this many frames
+  // With a prediction of the corners, the region around them is searched in every frame and the
+  // whole image only every this many frames (in case the prediction is wrong).
+  int search_interval_when_predicted = 30;
+  double region_margin_px = 40;        // the region: the predicted corners' box grown by this and a square
   double search_margin_px = 20;        // full search only if the last pose puts the board this far inside
   // findCorners only: a board partly out of the image is kept while this many corners remain
   // (their identities from tracking); 0 = the whole board only.
@@ -52,8 +56,14 @@ struct BoardCornerTrackerOptions {
     v("max_refine_shift_px", max_refine_shift_px,
       "a tracked or predicted corner that sub-pixel refinement moves further than this is dropped, pixels");
     v("search_interval_when_lost", search_interval_when_lost,
-      "while the board is not seen and no pose predicts it, the full search runs every this many frames (1 = "
+      "while the board is not seen and nothing predicts it, the full search runs every this many frames (1 = "
       "every frame)");
+    v("search_interval_when_predicted", search_interval_when_predicted,
+      "findCorners: while the corners are predicted, the region around them is searched in every frame and the "
+      "whole image only every this many frames (in case the prediction is wrong)");
+    v("region_margin_px", region_margin_px,
+      "findCorners: the region searched is the box of the predicted corners grown by a square and this, pixels "
+      "(the prediction's error); it is searched while the predicted board is within this of the image");
     v("search_margin_px", search_margin_px,
       "the full search is skipped while the last pose puts an outer corner of the board closer than this "
       "to the image border, pixels (a search on a frame with part of the board costs up to seconds)");
@@ -98,15 +108,22 @@ class BoardCornerTracker {
                                                const SE3* T_world_camera_last = nullptr);
 
   // As find, with partial boards (min_partial_corners) and the predicted search: the corners
-  // tracked from the last frame (starting where T_world_camera_predicted projects them, when
-  // given), then the corners T_world_camera_predicted projects into the image, then (allow_search,
-  // at most every search_interval_when_lost frames) the full search.
+  // tracked from the last frame (starting where they are predicted, when they are), then the
+  // predicted corners found in the image, then (allow_search, at most every
+  // search_interval_when_lost frames) the full search; with a prediction, the region around the
+  // predicted board in every frame instead, and the whole image every search_interval_when_predicted
+  // frames. The prediction is where
+  // T_world_camera_predicted projects the corners, or without a pose `uv_predicted` (every corner,
+  // distorted pixels, SPEC section 2 order, NaN where not predicted; e.g. the corners last seen
+  // carried by the image's motion).
   std::optional<BoardCorners> findCorners(const cv::Mat& grey, const std::vector<cv::Mat>& pyramid_prev,
                                           const std::vector<cv::Mat>& pyramid, cv::Size lk_window, int lk_levels,
                                           const CameraModel& camera, const SE3* T_world_camera_predicted,
-                                          bool allow_search);
+                                          bool allow_search, const std::vector<cv::Point2f>* uv_predicted = nullptr);
 
   bool lastWasTracked() const { return last_tracked_; }
+  // Whether the last call searched the whole image (else at most the predicted board's region).
+  bool lastSearchedWholeImage() const { return last_searched_whole_; }
   BoardFound lastFound() const { return last_found_; }
   // Forget the last corners (the next call searches).
   void reset() { corners_ = {}; }
@@ -118,11 +135,17 @@ class BoardCornerTracker {
   bool confirmCorners(const cv::Mat& grey, BoardCorners* corners, const CameraModel& camera) const;
   // The corners of `corners` plus those their homography puts inside the image.
   BoardCorners withReenteringCorners(const BoardCorners& corners, const CameraModel& camera) const;
-  // The corners `T_world_camera` projects inside the image, aligned on the strongest corner
-  // responses nearby; empty if too few.
+  // The corners predicted inside the image (`expected`: every corner, NaN where not predicted),
+  // aligned on the strongest corner responses nearby; empty if too few.
   std::optional<BoardCorners> predictedCorners(const cv::Mat& grey, const CameraModel& camera,
-                                               const SE3& T_world_camera) const;
-  std::optional<BoardCorners> fullSearch(const cv::Mat& grey, const CameraModel* camera, const SE3* T_world_camera);
+                                               const std::vector<cv::Point2f>& expected) const;
+  // The detector in `region` of the image. `expected` (every corner, or empty): where a symmetric
+  // board's origin is looked for.
+  std::optional<BoardCorners> fullSearch(const cv::Mat& grey, const std::vector<cv::Point2f>& expected,
+                                         const cv::Rect& region);
+  // The region around the predicted board (`expected`: every corner) worth searching: empty when
+  // a corner is not predicted or the board cannot be wholly in the image.
+  cv::Rect predictedRegion(const cv::Mat& grey, const std::vector<cv::Point2f>& expected) const;
   // Whether the four squares around the corner at grid coordinates `grid` show their colours near
   // it (H: grid to undistorted pixels).
   bool squaresClear(const cv::Mat& grey, const CameraModel& camera, const Mat3& H, const Vec2& grid) const;
@@ -134,6 +157,9 @@ class BoardCornerTracker {
   // undistorted pixels): false for a board slipped by two squares.
   bool endsAtItsEdges(const cv::Mat& grey, const CameraModel& camera, const Mat3& H,
                       const BoardCorners& corners) const;
+  // Whether the whole image is searched in this frame: allow_search, at once when the board is
+  // lost, then every search_interval_when_lost (predicted: search_interval_when_predicted) frames.
+  bool fullSearchDue(bool allow_search, bool predicted);
   int minCorners() const;
   double refineMarginPx(const BoardCorners& corners) const;
 
@@ -144,7 +170,9 @@ class BoardCornerTracker {
   // +1, or for a symmetric board whose origin continuity chose the other way round, -1: the sign
   // of the white-minus-black contrast the corner numbering gives.
   double parity_ = 1.0;
-  int frames_until_search_ = 0;  // frames to skip before the next full search
+  static constexpr int kNeverSearched = 1 << 20;
+  int frames_since_search_ = kNeverSearched;  // since the last whole-image search, or the board seen
+  bool last_searched_whole_ = false;
   bool last_tracked_ = false;
   BoardFound last_found_ = BoardFound::None;
 };
