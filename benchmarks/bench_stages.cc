@@ -17,6 +17,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <opencv2/core/utility.hpp>
@@ -24,6 +25,7 @@
 
 #include "benchmarks/bench_frames.h"
 #include "core/chessboard.h"
+#include "cslam/board_image_motion.h"
 #include "cslam/map_point_search.h"
 #include "geometry/bundle_adjustment.h"
 #include "geometry/pose_graph.h"
@@ -240,6 +242,56 @@ void BM_BoardAbsentTest(benchmark::State& state, bool predicted_in_view) {
     i = (i + 1) % d->board_absent.size();
   }
   state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+}
+
+// The region around a predicted board searched by the detector (what replaces the whole image's
+// search while a prediction exists: findCorners with the search allowed, the whole image never)
+// on board_leaves' frames showing no corner of the board, the board predicted where a frame that
+// shows all of it has it: the worst case, the region holding the far wall and nothing found.
+void BM_BoardRegionSearchAbsent(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "board_leaves", false);
+  if (!d) return;
+  if (d->board_absent.empty() || d->board_visible.empty()) {
+    state.SkipWithError("board_leaves has no frame without the board, or none with it");
+    return;
+  }
+  BoardCornerTrackerOptions options = cslamOptions().board;
+  options.search_interval_when_predicted = 1 << 20;
+  BoardCornerTracker tracker(d->target, options);
+  const SE3& T_predicted = d->T_world_camera[d->board_visible.front()];
+  size_t i = 0;
+  int64_t found = 0;
+  for (auto _ : state) {
+    const int frame = d->board_absent[i];
+    found += tracker.findCorners(d->b->frames[frame].grey, {}, {}, lkWindow(), cslamOptions().lk_levels, d->camera,
+                                 &T_predicted, true)
+                 .has_value();
+    i = (i + 1) % d->board_absent.size();
+  }
+  state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+}
+
+// Carrying the board's predicted view one frame on (BoardImageMotion::advance: the frame-to-frame
+// homography of ~150 tracked features by RANSAC), on tv1's tracks.
+void BM_BoardImageMotionAdvance(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "tv1");
+  if (!d) return;
+  if (d->correspondences.empty()) {
+    state.SkipWithError("no feature tracks on tv1");
+    return;
+  }
+  const auto& [from, to] = d->correspondences.front();
+  std::unordered_map<int, Vec2> previous, current;
+  for (size_t k = 0; k < from.size(); ++k) previous.emplace(static_cast<int>(k), from[k]), current.emplace(static_cast<int>(k), to[k]);
+  BoardImageMotion motion(BoardImageMotionOptions{}, d->camera.fx);
+  int64_t predicting = 0;
+  for (auto _ : state) {
+    motion.seen(d->target.cornersWorld(), d->corners_normalised.front());
+    motion.advance(previous, current);
+    predicting += motion.predicting();
+  }
+  state.counters["features"] = static_cast<double>(from.size());
+  state.counters["predicting"] = benchmark::Counter(static_cast<double>(predicting), benchmark::Counter::kAvgIterations);
 }
 
 // The board found again where a predicted pose puts it: board_leaves' frames that show the
@@ -560,6 +612,8 @@ const bool registered = [] {
       [](auto& s) { BM_ChessboardDetect(s, "board_leaves", false); }, benchmark::kMillisecond);
   add("BM_BoardAbsentTest/board_leaves/predicted_in_view", [](auto& s) { BM_BoardAbsentTest(s, true); });
   add("BM_BoardAbsentTest/board_leaves/predicted_out_of_view", [](auto& s) { BM_BoardAbsentTest(s, false); });
+  add("BM_BoardRegionSearch/board_leaves/board_absent", [](auto& s) { BM_BoardRegionSearchAbsent(s); });
+  add("BM_BoardImageMotionAdvance/tv1", [](auto& s) { BM_BoardImageMotionAdvance(s); });
   add("BM_BoardReacquire/board_leaves", [](auto& s) { BM_BoardReacquire(s); });
   add("BM_BoardPartialTracking/board_partial", [](auto& s) { BM_BoardPartialTracking(s); });
   add("BM_WindowBundleAdjustment", [](auto& s) { BM_WindowBundleAdjustment(s); });
