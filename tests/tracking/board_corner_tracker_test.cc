@@ -135,6 +135,51 @@ TEST_F(BoardCornerTrackerTv1, FrameWithoutTheBoardHasNone) {
   EXPECT_FALSE(tracker.lastWasTracked());
 }
 
+// The corners predicted 25 px off (beyond the predicted search's reach: under half a square),
+// with no pose (a prediction by the image's motion): the region around them is searched, not the
+// whole image, and the board found there has every corner within 0.3 px RMS of the truth.
+TEST_F(BoardCornerTrackerTv1, SearchesTheRegionAroundPredictedCorners) {
+  const PosedFrame& frame = (*frames_)[2];
+  std::vector<cv::Point2f> predicted = projectBoardCorners(*camera_, *target_, frame.T_world_camera);
+  for (cv::Point2f& p : predicted) p += cv::Point2f(20, -15);
+  BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
+  const auto corners = tracker.findCorners(frame.grey, {}, pyramid(frame.grey), kWindow, kLevels, *camera_, nullptr,
+                                           true, &predicted);
+  ASSERT_TRUE(corners.has_value());
+  EXPECT_EQ(tracker.lastFound(), BoardFound::Searched);
+  EXPECT_FALSE(tracker.lastSearchedWholeImage());
+  ASSERT_TRUE(corners->complete);
+  EXPECT_LT(rmsToTruth(corners->uv, frame.T_world_camera), 0.3);
+}
+
+// A board predicted out of the image (by a pose or the image's motion) is not looked for in it
+// but once every search_interval_when_predicted frames, in case the prediction is wrong; with no
+// prediction the whole image is searched every search_interval_when_lost frames.
+TEST_F(BoardCornerTrackerTv1, PredictedAwayTheWholeImageIsSearchedOnlyNowAndThen) {
+  const test::BlobTexture texture(11, (*frames_)[0].grey.size());
+  const cv::Mat no_board = texture.image((*frames_)[0].grey.size());
+  const std::vector<cv::Mat> no_board_pyramid = pyramid(no_board);
+  std::vector<cv::Point2f> away = projectBoardCorners(*camera_, *target_, (*frames_)[0].T_world_camera);
+  for (cv::Point2f& p : away) p.x -= 900;
+  BoardCornerTrackerOptions options;
+  options.search_interval_when_predicted = 10;
+  options.search_interval_when_lost = 3;
+  BoardCornerTracker tracker(*target_, options);
+  std::vector<int> searched;
+  for (int k = 0; k < 25; ++k) {
+    EXPECT_FALSE(tracker.findCorners(no_board, {}, no_board_pyramid, kWindow, kLevels, *camera_, nullptr, true, &away));
+    if (tracker.lastSearchedWholeImage()) searched.push_back(k);
+  }
+  EXPECT_EQ(searched, (std::vector<int>{0, 10, 20}));
+  searched.clear();
+  for (int k = 0; k < 7; ++k) {
+    EXPECT_FALSE(tracker.findCorners(no_board, {}, no_board_pyramid, kWindow, kLevels, *camera_, nullptr, true));
+    if (tracker.lastSearchedWholeImage()) searched.push_back(k);
+  }
+  // The last whole search was 5 frames before: due at once, then every third frame.
+  EXPECT_EQ(searched, (std::vector<int>{0, 3, 6}));
+}
+
 // findCorners, the path cslam takes, on roll_distortion's first frames (a strongly distorting
 // lens, the board rolling): after the full search on frame 0, every frame's corners are tracked
 // and confirmed, never searched again, within 0.3 px RMS of the truth. (The confirmation's square
