@@ -24,7 +24,8 @@ void addCompareCommand(CLI::App& app) {
   for (const Method& m : allMethods()) every += (every.empty() ? "" : ",") + m.backend + ":" + (m.mode.empty() ? findBackend(m.backend).modes.front().name : m.mode);
   cmd->add_option("--backends", *backends,
                   "comma-separated back-ends, each optionally with a mode (default: each back-end's default "
-                  "mode); all of them: " + every)
+                  "mode) and, for those that take --init, a start: backend[:mode][@board|groundtruth|none] (e.g. "
+                  "monoslam,monoslam@none); all of them: " + every)
       ->capture_default_str();
   auto* out = cmd->add_option("--out", options->out_dir, "output folder: report.md, results.csv, *.csv, figures/, runs/, "
                                                         "logs/, and the plan (plan.json, jobs.txt, slurm.sbatch)")

@@ -10,6 +10,7 @@
 #include "eval/app/compare_plan.h"
 #include "eval/app/job_runner.h"
 #include "eval/report/experiment_plan.h"
+#include "eval/report/plot.h"
 
 namespace fs = std::filesystem;
 
@@ -39,10 +40,26 @@ std::vector<Method> parseMethods(const std::string& list) {
   std::string item;
   while (std::getline(ss, item, ',')) {
     if (item.empty()) continue;
-    const auto colon = item.find(':');
-    const std::string mode = colon == std::string::npos ? "" : item.substr(colon + 1);
-    if (colon != std::string::npos && mode.empty()) throw InputError("--backends " + item, "names no mode");
-    Method m = methodOf(item.substr(0, colon), mode, "--backends " + item);
+    const std::string where = "--backends " + item;
+    // backend[:mode][@init]
+    const auto at = item.find('@');
+    const std::string name_mode = item.substr(0, at);
+    const auto colon = name_mode.find(':');
+    const std::string mode = colon == std::string::npos ? "" : name_mode.substr(colon + 1);
+    if (colon != std::string::npos && mode.empty()) throw InputError(where, "names no mode");
+    Method m = methodOf(name_mode.substr(0, colon), mode, where);
+    if (at != std::string::npos) {
+      const std::string init = item.substr(at + 1);
+      if (!findBackend(m.backend, where).takes_init)
+        throw InputError(where, m.backend + " takes no --init (its world frame and start come from the board)");
+      if (init != "board" && init != "groundtruth" && init != "none")
+        throw InputError(where, "@ takes board, groundtruth or none, got '" + init + "'");
+      if (init != "board") {  // the default start keeps the short label
+        m.init = init;
+        m.thesis_method.clear();  // the thesis's methods started from the board
+        m.colour = shadeColour(m.colour, init == "none" ? 0.45 : -0.45);
+      }
+    }
     for (const Method& other : methods)
       if (other.label() == m.label())  // both runs would write into one folder
         throw InputError("--backends", "'" + item + "' is listed twice (as " + m.label() + ")");

@@ -12,6 +12,7 @@
 #include "datasets/synth_sequence.h"
 #include "eval/app/backends.h"
 #include "eval/app/run_sequence.h"
+#include "eval/report/plot.h"
 
 namespace fs = std::filesystem;
 
@@ -69,17 +70,6 @@ Sweep parseSweep(const std::string& text, const std::vector<Method>& methods) {
   return sweep;
 }
 
-// `colour` mixed towards white (t > 0) or black (t < 0) by |t|: the settings of one back-end in
-// shades of its colour.
-std::string shade(const std::string& colour, double t) {
-  unsigned r = 0, g = 0, b = 0;
-  if (colour.size() != 7 || std::sscanf(colour.c_str(), "#%02x%02x%02x", &r, &g, &b) != 3) return colour;
-  auto mix = [t](unsigned c) { return static_cast<unsigned>(t > 0 ? c + (255 - c) * t : c * (1 + t)); };
-  char out[8];
-  std::snprintf(out, sizeof out, "#%02x%02x%02x", mix(r), mix(g), mix(b));
-  return out;
-}
-
 // The method's settings: every combination of its back-end's sweeps, in the order given.
 std::vector<std::vector<std::string>> settingsOf(const Method& method, const std::vector<Sweep>& sweeps) {
   std::vector<std::vector<std::string>> grid{{}};
@@ -134,7 +124,7 @@ Plan makePlan(const CompareOptions& options) {
       Method m = method;
       m.setting = settingLabel(settings[k]);
       // Shades from darker to lighter keep every setting of one back-end near its colour.
-      if (settings.size() > 1) m.colour = shade(method.colour, -0.45 + 0.9 * k / (settings.size() - 1));
+      if (settings.size() > 1) m.colour = shadeColour(method.colour, -0.45 + 0.9 * k / (settings.size() - 1));
       plan.methods.push_back(m);
       method_sets.push_back(settings[k]);
     }
@@ -182,6 +172,7 @@ Plan makePlan(const CompareOptions& options) {
         const Method& method = plan.methods[m];
         run.argv = {slamcmp, "run", "--backend", method.backend};
         if (!method.mode.empty()) run.argv.insert(run.argv.end(), {"--mode", method.mode});
+        if (!method.init.empty()) run.argv.insert(run.argv.end(), {"--init", method.init});
         run.argv.insert(run.argv.end(), {"--sequence", sequence_path, "--out", (dir / run.dir).string()});
         if (options.max_frames > 0) run.argv.insert(run.argv.end(), {"--max-frames", std::to_string(options.max_frames)});
         if (seed_kind == "backend") run.argv.insert(run.argv.end(), {"--seed", std::to_string(trial)});

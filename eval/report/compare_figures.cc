@@ -112,9 +112,21 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   if (!ref) return written;
   std::vector<std::optional<SE3>> gt_poses;
   if (seq.groundtruth) gt_poses = posesByFrame(ref->frames, *seq.groundtruth);
+  // A scale-free run (--init none) drawn in the board's frame through the Sim(3) it was scored with.
   std::vector<std::vector<std::optional<SE3>>> poses;
-  for (const auto& r : runs) poses.push_back(r.error.empty() ? posesByFrame(r.frames, r.trajectory)
-                                                             : std::vector<std::optional<SE3>>());
+  bool any_aligned = false;
+  for (const auto& r : runs) {
+    std::vector<std::optional<SE3>> ps = r.error.empty() ? posesByFrame(r.frames, r.trajectory)
+                                                         : std::vector<std::optional<SE3>>();
+    if (r.errors && r.errors->align == "sim3") {
+      any_aligned = true;
+      const Similarity3& S = r.errors->T_gt_estimate;
+      for (auto& p : ps)
+        if (p) p = SE3(S.R * p->R(), S * p->t());
+    }
+    poses.push_back(std::move(ps));
+  }
+  const std::string alignment = any_aligned ? " (scale-free runs after their Sim(3) alignment)" : "";
 
   auto addAll = [&](PlotPanel& panel, auto f) {
     if (seq.groundtruth) {
@@ -136,7 +148,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   // Trajectory seen from above (X-Z) and from the side (X-Y): thesis figures 3.7, 3.9, 3.11, 3.13.
   {
     Figure fig;
-    fig.title = seq.name + ": camera trajectory in the board frame";
+    fig.title = seq.name + ": camera trajectory in the board frame" + alignment;
     fig.columns = 2;
     fig.panel_height_px = 480;
     const std::pair<int, int> views[] = {{0, 2}, {0, 1}};
@@ -175,7 +187,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   auto threeAxes = [&](const std::string& title, const char* const names[3], const std::string& unit,
                        const std::string& stem, auto component) {
     Figure fig;
-    fig.title = seq.name + ": " + title;
+    fig.title = seq.name + ": " + title + alignment;
     for (int a = 0; a < 3; ++a) {
       PlotPanel p;
       p.title = names[a];
@@ -194,7 +206,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   // What the thesis could not measure: error against ground truth, and time, per frame.
   if (seq.groundtruth) {
     Figure fig;
-    fig.title = seq.name + ": error against ground truth (no alignment)";
+    fig.title = seq.name + ": error against ground truth" + (any_aligned ? alignment : " (no alignment)");
     PlotPanel pt{"position error", "frame", "error [m]", {}, false, true};
     PlotPanel pr{"orientation error", "frame", "error [deg]", {}, false, true};
     for (size_t k = 0; k < runs.size(); ++k) {

@@ -27,7 +27,8 @@ struct Method {
   std::string colour = "#9467bd";  // figure colour
   std::string thesis_method;       // the thesis's Table 3.2 column it stands beside ("" = none)
   std::string setting;             // "" or the swept options' values: "features.max_features=50 ..."
-  std::string base() const { return mode.empty() ? backend : backend + ":" + mode; }
+  std::string init;                // "" = the back-end's default start (the board), or run's --init: "none", ...
+  std::string base() const { return (mode.empty() ? backend : backend + ":" + mode) + (init.empty() ? "" : "@" + init); }
   std::string label() const { return setting.empty() ? base() : base() + " " + setting; }
   std::string slug() const;        // a folder name: "cslam-calibration", "cslam-features.max_features=50"
 };

@@ -6,6 +6,7 @@ namespace slamcmp {
 
 std::string Method::slug() const {
   std::string s = mode.empty() ? backend : backend + "-" + mode;
+  if (!init.empty()) s += "-init-" + init;
   if (!setting.empty()) s += "-" + setting;
   for (char& c : s)
     if (c == ' ' || c == '/' || c == ':') c = '_';  // a folder name
@@ -26,7 +27,8 @@ nlohmann::json planToJson(const Plan& plan) {
                        {"mode", m.mode},
                        {"colour", m.colour},
                        {"thesis_method", m.thesis_method},
-                       {"setting", m.setting}});
+                       {"setting", m.setting},
+                       {"init", m.init}});
   for (const PlannedRun& r : plan.runs) {
     nlohmann::json j = {{"sequence", r.sequence}, {"method", r.method},  {"trial", r.trial},
                         {"seed_kind", r.seed_kind}, {"sequence_path", r.sequence_path},
@@ -58,6 +60,7 @@ Plan planFromJson(const nlohmann::json& j, const std::string& where) {
       method.colour = m.at("colour").get<std::string>();
       method.thesis_method = m.at("thesis_method").get<std::string>();
       method.setting = m.at("setting").get<std::string>();
+      method.init = m.value("init", "");
       plan.methods.push_back(method);
     }
     plan.swept_keys = j.at("swept_keys").get<std::vector<std::string>>();

@@ -45,4 +45,8 @@ void writeFigurePng(const Figure& figure, const std::string& path);
 // The gnuplot script writeFigurePng runs (for tests and for users who want to restyle a figure).
 std::string gnuplotScript(const Figure& figure, const std::string& png_path);
 
+// "#rrggbb" mixed towards white (t > 0) or black (t < 0) by |t| (other colours as they are): the
+// variants of one method (its settings, its start) in shades of its colour.
+std::string shadeColour(const std::string& colour, double t);
+
 }  // namespace slamcmp

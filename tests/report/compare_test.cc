@@ -33,6 +33,29 @@ TEST(Compare, ParsesMethodsWithModes) {
   }
 }
 
+// backend[:mode]@init: a back-end that takes --init run from another start, beside its default
+// one (the board's, which keeps the short label); one that takes none is refused.
+TEST(Compare, ParsesAStartPerMethod) {
+  for (const BackendRegistration& b : backends()) {
+    if (!b.takes_init) {
+      EXPECT_THROW(parseMethods(b.name + "@none"), InputError) << b.name;
+      continue;
+    }
+    const auto methods = parseMethods(b.name + "," + b.name + "@none," + b.name + ":" + b.modes.front().name + "@groundtruth");
+    ASSERT_EQ(methods.size(), 3u);
+    EXPECT_EQ(methods[1].init, "none");
+    EXPECT_EQ(methods[1].label(), b.name + "@none");
+    EXPECT_EQ(methods[1].slug(), b.name + "-init-none");
+    EXPECT_TRUE(methods[1].thesis_method.empty());  // the thesis's methods started from the board
+    EXPECT_NE(methods[1].colour, methods[0].colour);
+    EXPECT_EQ(methods[2].init, "groundtruth");
+    EXPECT_EQ(parseMethods(b.name + "@board").front().label(), b.name);
+    EXPECT_THROW(parseMethods(b.name + "@sky"), InputError);
+    EXPECT_THROW(parseMethods(b.name + "@none," + b.name + "@none"), InputError);
+    EXPECT_THROW(parseMethods(b.name + "," + b.name + "@board"), InputError);
+  }
+}
+
 TEST(Compare, RefusesUnknownAndEmptyMethodLists) {
   EXPECT_THROW(parseMethods("nosuchslam"), InputError);
   EXPECT_THROW(parseMethods(","), InputError);
@@ -118,6 +141,38 @@ TEST(Compare, EndToEndOnShortTv1) {
     EXPECT_GT(std::stoi(f[column("map_points")]), 0) << lines[k];
     EXPECT_LT(std::stod(f[column("map_median_m")]), 0.02) << lines[k];
   }
+}
+
+// monoslam started without the board beside its board start: the run is given --init none, its
+// folder and row are named for it, and it is scored after Sim(3) alignment with its scale (the
+// board's run: none, 1), within 5 cm on this easy start.
+TEST(Compare, ScaleFreeStartBesideTheBoardStart) {
+  test::TempDir tmp;
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = 20;
+  synth.supersample = 1;
+  writeSyntheticSequence(synth, tmp.file("tv1"));
+  CompareOptions options;
+  options.sequences = {tmp.file("tv1")};
+  options.methods = parseMethods("monoslam,monoslam@none");
+  options.out_dir = tmp.file("out");
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  options.slamcmp = std::getenv("SLAMCMP_BIN");
+  runCompare(options);
+  std::ifstream summary_file(tmp.file("out/runs/tv1-monoslam-init-none/summary.json"));
+  ASSERT_TRUE(summary_file.good());
+  EXPECT_EQ(nlohmann::json::parse(summary_file).value("alignment", ""), "sim3");
+  const std::vector<std::string> lines = test::readLines(tmp.file("out/results.csv"));
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_NE(lines[1].find(",monoslam,1,,,ok,,none,"), std::string::npos) << lines[1];
+  EXPECT_NE(lines[2].find(",monoslam@none,1,,,ok,,sim3,"), std::string::npos) << lines[2];
+  std::stringstream fields(lines[2]);
+  std::vector<std::string> f;
+  for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
+  ASSERT_GT(f.size(), 12u);
+  EXPECT_NE(std::stod(f[11]), 1.0);  // scale
+  EXPECT_LT(std::stod(f[12]), 0.05);  // ATE after Sim(3), metres
 }
 
 }  // namespace
