@@ -40,6 +40,8 @@ SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::opti
   const double fast = rotationAngle(motion.R()) * 180 / M_PI / options_.fast_rotation_deg;
   PoseWithCovariance predicted{motion * fused_->T_camera_world,
                                fused_->covariance + options_.motion_noise_scale * (1 + fast * fast) * map_pose->covariance};
+  const double s = options_.motion_scale_sigma;
+  predicted.covariance.bottomRightCorner<3, 3>() += s * s * motion.t() * motion.t().transpose();
   // Update with the board pose as the measurement (Kalman, in the tangent space of the prediction).
   const Vec6 innovation = poseDifference(board.T_camera_world, predicted.T_camera_world);
   // An innovation beyond the gate means the prediction is worse than its covariance says (the
