@@ -129,16 +129,23 @@ void chooseSymmetricOrder(const ChessboardTarget& t, std::vector<cv::Point2f>& u
   uv = std::move(best);
 }
 
-std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& t,
-                                             const SE3& T_world_camera) {
+std::vector<cv::Point2f> projectEveryBoardCorner(const CameraModel& camera, const ChessboardTarget& t,
+                                                 const SE3& T_world_camera) {
   const SE3 T_camera_world = T_world_camera.inverse();
   std::vector<cv::Point2f> uv;
   for (const Vec3& p_world : t.cornersWorld()) {
     const Vec3 p_camera = T_camera_world * p_world;
-    if (!(p_camera.z() > 0)) return {};
-    const Vec2 p = camera.project(p_camera);
+    const Vec2 p = p_camera.z() > 0 ? camera.project(p_camera) : Vec2::Constant(std::nan(""));
     uv.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
   }
+  return uv;
+}
+
+std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& t,
+                                             const SE3& T_world_camera) {
+  std::vector<cv::Point2f> uv = projectEveryBoardCorner(camera, t, T_world_camera);
+  for (const cv::Point2f& p : uv)
+    if (std::isnan(p.x)) return {};
   return uv;
 }
 

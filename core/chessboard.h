@@ -50,6 +50,11 @@ bool orderChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
 void chooseSymmetricOrder(const ChessboardTarget& target, std::vector<cv::Point2f>& uv,
                           const std::vector<cv::Point2f>& reference = {});
 
+// Every inner corner (distorted pixels, SPEC section 2 order) seen from T_world_camera, NaN for
+// one behind the camera.
+std::vector<cv::Point2f> projectEveryBoardCorner(const CameraModel& camera, const ChessboardTarget& target,
+                                                 const SE3& T_world_camera);
+
 // The board's inner corners (distorted pixels, SPEC section 2 order) seen from T_world_camera, e.g.
 // the reference of chooseSymmetricOrder; empty if one is not in front of the camera.
 std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& target,

@@ -79,19 +79,6 @@ int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
                     options.max_refine_half_window);
 }
 
-// Every corner where T_world_camera projects it (distorted pixels), NaN behind the camera.
-std::vector<cv::Point2f> projectEveryCorner(const CameraModel& camera, const ChessboardTarget& t,
-                                            const SE3& T_world_camera) {
-  const SE3 T_camera_world = T_world_camera.inverse();
-  std::vector<cv::Point2f> uv;
-  for (const Vec3& p_world : t.cornersWorld()) {
-    const Vec3 p_camera = T_camera_world * p_world;
-    const Vec2 p = p_camera.z() > 0 ? camera.project(p_camera) : Vec2::Constant(std::nan(""));
-    uv.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
-  }
-  return uv;
-}
-
 }  // namespace
 
 BoardCornerTracker::BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options)
@@ -500,7 +487,7 @@ std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
     return corners_;
   };
   const std::vector<cv::Point2f> expected = T_world_camera_predicted
-                                                ? projectEveryCorner(camera, target_, *T_world_camera_predicted)
+                                                ? projectEveryBoardCorner(camera, target_, *T_world_camera_predicted)
                                             : uv_predicted ? *uv_predicted
                                                            : std::vector<cv::Point2f>{};
   if (options_.track && !corners_.ids.empty() && !pyramid_prev.empty()) {

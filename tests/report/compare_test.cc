@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -81,23 +82,28 @@ TEST(Compare, ThesisTablesHoldTheFourVideos) {
 namespace slamcmp {
 namespace {
 
-// Both back-ends on 20 frames of tv1: the report holds the thesis's tables with measured rows,
-// the accuracy and map accuracy tables and six figures, and every run folder its outputs.
-TEST(Compare, EndToEndOnShortTv1) {
-  test::TempDir tmp;
+// compare of `methods` on 20 frames of tv1 rendered into tmp/tv1, into tmp/out; the report's path.
+std::string compareOnShortTv1(const test::TempDir& tmp, const std::string& methods) {
   SynthOptions synth;
   synth.preset = "tv1";
   synth.frames = 20;
   synth.supersample = 1;  // quick: the accuracy tests use full renders
   writeSyntheticSequence(synth, tmp.file("tv1"));
-
   CompareOptions options;
   options.sequences = {tmp.file("tv1")};
-  options.methods = parseMethods("cslam,cslam:calibration,monoslam");
+  options.methods = parseMethods(methods);
   options.out_dir = tmp.file("out");
-  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
-  options.slamcmp = std::getenv("SLAMCMP_BIN");  // the runs are `slamcmp run` processes
-  const std::string report_path = runCompare(options);
+  const char* slamcmp = std::getenv("SLAMCMP_BIN");  // the runs are `slamcmp run` processes
+  if (!slamcmp) throw std::runtime_error("run through ctest (SLAMCMP_BIN)");
+  options.slamcmp = slamcmp;
+  return runCompare(options);
+}
+
+// Both back-ends on 20 frames of tv1: the report holds the thesis's tables with measured rows,
+// the accuracy and map accuracy tables and six figures, and every run folder its outputs.
+TEST(Compare, EndToEndOnShortTv1) {
+  test::TempDir tmp;
+  const std::string report_path = compareOnShortTv1(tmp, "cslam,cslam:calibration,monoslam");
 
   std::ifstream in(report_path);
   std::stringstream ss;
@@ -148,18 +154,7 @@ TEST(Compare, EndToEndOnShortTv1) {
 // board's run: none, 1), within 5 cm on this easy start.
 TEST(Compare, ScaleFreeStartBesideTheBoardStart) {
   test::TempDir tmp;
-  SynthOptions synth;
-  synth.preset = "tv1";
-  synth.frames = 20;
-  synth.supersample = 1;
-  writeSyntheticSequence(synth, tmp.file("tv1"));
-  CompareOptions options;
-  options.sequences = {tmp.file("tv1")};
-  options.methods = parseMethods("monoslam,monoslam@none");
-  options.out_dir = tmp.file("out");
-  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
-  options.slamcmp = std::getenv("SLAMCMP_BIN");
-  runCompare(options);
+  compareOnShortTv1(tmp, "monoslam,monoslam@none");
   std::ifstream summary_file(tmp.file("out/runs/tv1-monoslam-init-none/summary.json"));
   ASSERT_TRUE(summary_file.good());
   EXPECT_EQ(nlohmann::json::parse(summary_file).value("alignment", ""), "sim3");
