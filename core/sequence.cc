@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <mutex>
 #include <sstream>
 #include <utility>
 
@@ -81,17 +83,35 @@ cv::Mat readGreyImage(const std::string& path, std::string* why) {
       threw = true;
     }
   });
-  // The decoder's first complaint, unless all it said were libpng warnings (whole pixels).
-  std::string complaint;
-  std::istringstream lines(said);
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty() && line.rfind("libpng warning:", 0) != 0) {
-      complaint = line;
-      break;
-    }
-  if (threw || img.empty() || !complaint.empty())
-    return fail(complaint.empty() ? "not a format OpenCV reads" : complaint);
+  const DecoderMessages messages = sortDecoderMessages(said);
+  if (threw || img.empty()) {
+    // Whatever was said then is most likely the failing decoder's (libtiff, libwebp, ...).
+    const std::string first = messages.others.substr(0, messages.others.find('\n'));
+    return fail(!messages.complaint.empty() ? messages.complaint : !first.empty() ? first : "not a format OpenCV reads");
+  }
+  if (!messages.complaint.empty()) return fail(messages.complaint);
+  if (!messages.others.empty()) {
+    const std::lock_guard<std::mutex> lock(stderrMutex());
+    std::cerr << messages.others << std::flush;
+  }
   return toGrey(img);
+}
+
+DecoderMessages sortDecoderMessages(const std::string& said) {
+  // libjpeg's warnings that mean broken pixels (jerror.h: the image is still returned); its errors
+  // fail the decoding.
+  static const char* const kComplaints[] = {"libpng error", "Corrupt JPEG data", "Premature end of JPEG file",
+                                            "Invalid JPEG", "Not a JPEG file", "Bogus", "Huffman"};
+  DecoderMessages m;
+  std::istringstream lines(said);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line.rfind("libpng warning:", 0) == 0) continue;
+    const bool complaint = std::any_of(std::begin(kComplaints), std::end(kComplaints),
+                                       [&](const char* prefix) { return line.rfind(prefix, 0) == 0; });
+    if (complaint && m.complaint.empty()) m.complaint = line;
+    if (!complaint) m.others += line + "\n";
+  }
+  return m;
 }
 
 std::string implausibleFrameRate(double fps) {

@@ -81,4 +81,15 @@ std::string implausibleFrameRate(double fps);
 // chunks (iCCP, tEXt) leave the pixels whole.
 cv::Mat readGreyImage(const std::string& path, std::string* why = nullptr);
 
+// What was written to stderr while one image was decoded, sorted: stderr is the process's, so
+// other threads' lines (the tracker's, a library's log) may be among the decoder's. `complaint`:
+// libpng's first error or libjpeg's first word of corrupt data (the pixels are not whole);
+// `others`: the lines neither decoder wrote (to be written to stderr again), libpng's warnings
+// about extra chunks dropped.
+struct DecoderMessages {
+  std::string complaint;
+  std::string others;
+};
+DecoderMessages sortDecoderMessages(const std::string& said);
+
 }  // namespace slamcmp

@@ -346,3 +346,26 @@ TEST(Sequence, MissingPathAndEmptyFolderAreRefused) {
 
 }  // namespace
 }  // namespace slamcmp
+
+namespace slamcmp {
+namespace {
+
+// stderr is the process's: while a frame is decoded on the prefetching thread, the tracker or a
+// library may write too. Only the decoders' words about broken pixels fail the frame; the other
+// lines are said again, libpng's warnings about extra chunks dropped.
+TEST(DecoderMessages, OnlyTheDecodersComplaintsFailAFrame) {
+  const DecoderMessages m = sortDecoderMessages(
+      "[ WARN:0@1.2] global loadsave.cpp (1) a log line of OpenCV's\n"
+      "libpng warning: iCCP: known incorrect sRGB profile\n"
+      "Corrupt JPEG data: premature end of data segment\n"
+      "a debug line of the tracker's\n"
+      "libpng error: IDAT: CRC error\n");
+  EXPECT_EQ(m.complaint, "Corrupt JPEG data: premature end of data segment");
+  EXPECT_EQ(m.others, "[ WARN:0@1.2] global loadsave.cpp (1) a log line of OpenCV's\na debug line of the tracker's\n");
+  const DecoderMessages quiet = sortDecoderMessages("libpng warning: tEXt: extra chunk\nsomeone else's line\n");
+  EXPECT_TRUE(quiet.complaint.empty());
+  EXPECT_EQ(quiet.others, "someone else's line\n");
+}
+
+}  // namespace
+}  // namespace slamcmp
