@@ -3,6 +3,9 @@
 // the ground truth's frame once the alignment is applied to both.
 #include "eval/metrics/nees.h"
 
+#include <random>
+
+#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
 namespace slamcmp {
@@ -41,6 +44,38 @@ TEST(Nees, Sim3AlignmentAppliesToPosesAndCovariances) {
   EXPECT_EQ(aligned->frames, 20);
   EXPECT_NEAR(aligned->mean, expected->mean, 1e-9 * expected->mean);
   EXPECT_GT(unaligned->mean, 100 * expected->mean);  // without the alignment the score is meaningless
+}
+
+
+// Errors drawn from each pose's covariance, with the rotation error in the world frame
+// (R_true = exp(e) R_estimate, core/tracker.h), average the 6 dof within the 95 % bounds. The
+// rotation covariance is thin along one world axis and the cameras turn far: an error taken in
+// the camera frame, or with its sign or position/rotation order mixed up, scores far outside.
+TEST(Nees, ErrorsDrawnFromTheCovarianceAverageTheDof) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  Trajectory groundtruth;
+  std::vector<CovariantPose> estimate;
+  for (int i = 0; i < 1000; ++i) {
+    const double t = 0.1 * i;
+    const SE3 T_true = SE3::fromRotvec(Vec3(0.01 * i, 2.0 * std::sin(0.1 * i), 1.5), Vec3(0.1, -0.2, 0.001 * i));
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Random() * 0.005;
+    A.row(3).setZero();  // rotation about world X known to 1e-4 rad
+    PoseCovariance P = A * A.transpose();
+    P.diagonal() += (Eigen::Matrix<double, 6, 1>() << 1e-4, 4e-4, 1e-6, 1e-8, 1e-4, 1e-4).finished();
+    Eigen::Matrix<double, 6, 1> n;
+    for (int k = 0; k < 6; ++k) n(k) = normal(rng);
+    const Eigen::Matrix<double, 6, 1> e = Eigen::LLT<PoseCovariance>(P).matrixL() * n;
+    // e = (t_true - t_est, log(R_true R_est^T))
+    const SE3 T_est(rotationFromRotvec(-e.tail<3>()) * T_true.R(), T_true.t() - e.head<3>());
+    groundtruth.push_back({t, T_true});
+    estimate.push_back({t, T_est, P});
+  }
+  const auto nees = poseNees(groundtruth, estimate, 0.01);
+  ASSERT_TRUE(nees);
+  EXPECT_EQ(nees->frames, 1000);
+  EXPECT_GT(nees->mean, nees->lower);
+  EXPECT_LT(nees->mean, nees->upper);
 }
 
 }  // namespace
