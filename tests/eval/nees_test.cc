@@ -11,6 +11,15 @@
 namespace slamcmp {
 namespace {
 
+// Entries uniform in [-scale, scale], from `rng` (Eigen's Random() shares std::rand's state with
+// whatever ran before).
+Eigen::Matrix<double, 6, 6> randomMatrix(std::mt19937& rng, double scale) {
+  std::uniform_real_distribution<double> uniform(-scale, scale);
+  Eigen::Matrix<double, 6, 6> A;
+  for (int i = 0; i < 36; ++i) A(i / 6, i % 6) = uniform(rng);
+  return A;
+}
+
 TEST(Nees, Sim3AlignmentAppliesToPosesAndCovariances) {
   Trajectory groundtruth;
   std::vector<CovariantPose> in_gt_frame, in_own_frame;
@@ -59,7 +68,7 @@ TEST(Nees, ErrorsDrawnFromTheCovarianceAverageTheDof) {
   for (int i = 0; i < 1000; ++i) {
     const double t = 0.1 * i;
     const SE3 T_true = SE3::fromRotvec(Vec3(0.01 * i, 2.0 * std::sin(0.1 * i), 1.5), Vec3(0.1, -0.2, 0.001 * i));
-    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Random() * 0.005;
+    Eigen::Matrix<double, 6, 6> A = randomMatrix(rng, 0.005);
     A.row(3).setZero();  // rotation about world X known to 1e-4 rad
     PoseCovariance P = A * A.transpose();
     P.diagonal() += (Eigen::Matrix<double, 6, 1>() << 1e-4, 4e-4, 1e-6, 1e-8, 1e-4, 1e-4).finished();
@@ -91,8 +100,8 @@ TEST(Nees, BoardFreeRunScoredInItsGaugeAtTheFirstCamera) {
   T_gt_estimate.scale = 0.4;
   Trajectory groundtruth;
   std::vector<CovariantPose> estimate;  // in the run's own frame
-  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Random() * 1e-3;
-  const PoseCovariance P_step = A * A.transpose() + 1e-7 * PoseCovariance::Identity();  // ground-truth frame
+  Eigen::Matrix<double, 6, 6> A = randomMatrix(rng, 3e-4);
+  const PoseCovariance P_step = A * A.transpose() + 1e-8 * PoseCovariance::Identity();  // ground-truth frame
   Eigen::Matrix<double, 6, 6> G_inv = Eigen::Matrix<double, 6, 6>::Zero();  // ground truth's -> the run's
   G_inv.topLeftCorner<3, 3>() = T_gt_estimate.R.transpose() / T_gt_estimate.scale;
   G_inv.bottomRightCorner<3, 3>() = T_gt_estimate.R.transpose();
