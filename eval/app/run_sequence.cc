@@ -186,7 +186,7 @@ nlohmann::json runSequence(const RunRequest& request) {
         T_gt_estimate = errors->T_gt_estimate;
         if (scale_free) extra["scale"] = T_gt_estimate.scale;
       }
-      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate))
+      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free))
         extra["nees"] = neesToJson(*nees);
     } catch (const InputError& e) {  // the run is fine; only its score is impossible
       extra["metrics_error"] = e.what();

@@ -41,11 +41,22 @@ double chiSquareQuantile(double probability, double dof) {
 }
 
 std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
-                                   double max_diff, const Similarity3& T_gt_estimate) {
+                                   double max_diff, const Similarity3& fitted, bool gauge_at_first) {
   if (groundtruth.empty() || estimate.empty()) return std::nullopt;
   Trajectory poses;
   for (const CovariantPose& c : estimate) poses.push_back({c.timestamp, c.T_world_camera});
   const PosePairs pairs = associateByTime(groundtruth, poses, max_diff);
+  if (pairs.size() == 0) return std::nullopt;
+  Similarity3 T_gt_estimate = fitted;
+  if (gauge_at_first) {
+    size_t first = 0;
+    for (size_t k = 1; k < pairs.size(); ++k)
+      if (estimate[pairs.estimate[k]].timestamp < estimate[pairs.estimate[first]].timestamp) first = k;
+    const SE3& gt = groundtruth[pairs.groundtruth[first]].T_world_camera;
+    const SE3& est = estimate[pairs.estimate[first]].T_world_camera;
+    T_gt_estimate.R = gt.R() * est.R().transpose();
+    T_gt_estimate.t = gt.t() - fitted.scale * (T_gt_estimate.R * est.t());
+  }
   double sum = 0;
   int n = 0;
   for (size_t k = 0; k < pairs.size(); ++k) {

@@ -15,6 +15,7 @@
 #include "core/sequence.h"
 #include "core/trajectory.h"
 #include "datasets/synth_sequence.h"
+#include "eval/metrics/nees.h"
 #include "eval/metrics/trajectory_metrics.h"
 #include "tests/test_util.h"
 
@@ -26,6 +27,7 @@ struct RunResult {
   Trajectory estimate;          // the posed frames
   std::vector<double> error_m;  // per tracked frame: |t_gt - t_est|
   std::vector<FrameResult> results;
+  std::vector<CovariantPose> covariant;  // the posed frames with their covariance (NEES)
   double ateRmse() const {
     double sum = 0;
     for (double e : error_m) sum += e * e;
@@ -35,7 +37,7 @@ struct RunResult {
 
 // Runs the tracker over the sequence; ground truth is matched by frame index (same timestamps).
 RunResult runTracker(const std::string& path, InitSource init, const std::optional<SE3>& T_init,
-                     int max_frames = -1) {
+                     int max_frames = -1, const MonoslamOptions& options = MonoslamOptions{}) {
   Sequence seq = openSequence(path);
   TrackerContext context;
   context.camera = seq.camera;
@@ -43,7 +45,7 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
   context.image_size = seq.image_size;
   context.init = init;
   context.T_world_camera_init = T_init;
-  MonoslamTracker tracker(context, MonoslamOptions{});
+  MonoslamTracker tracker(context, options);
   RunResult run;
   Frame frame;
   while ((max_frames < 0 || run.frames < max_frames) && seq.frames->next(&frame)) {
@@ -53,6 +55,7 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
     if (!r.T_world_camera) continue;
     ++run.tracked;
     run.estimate.push_back({frame.timestamp, *r.T_world_camera});
+    if (r.pose_covariance) run.covariant.push_back({frame.timestamp, *r.T_world_camera, *r.pose_covariance});
     if (seq.groundtruth)
       run.error_m.push_back((r.T_world_camera->t() - (*seq.groundtruth)[frame.index].T_world_camera.t()).norm());
   }
@@ -92,6 +95,38 @@ TEST_F(MonoslamOnTv1, BoardStartTracksEveryFrameUnderOneCentimetre) {
   EXPECT_LT(run.ateRmse(), 0.01);
   for (const FrameResult& r : run.results) EXPECT_LE(r.measured, 12);
   EXPECT_GT(run.results.back().measured, 5);
+}
+
+// The noise measured on the presets (configs/synthetic_presets.yaml, README "Consistency"): the
+// defaults, made for a hand-held camera, leave the filter far underconfident on a render; the
+// measured noise brings its NEES towards the 6 dof and its error down. SceneLib's settings are
+// one file away (configs/scenelib.yaml).
+TEST_F(MonoslamOnTv1, PresetNoiseFileBringsTheNeesTowardsItsDof) {
+  const auto load = [](const std::string& file) {
+    const cv::FileStorage fs(file, cv::FileStorage::READ);
+    MonoslamOptions options;
+    loadOptions(fs["monoslam"], file, options);
+    return options;
+  };
+  const MonoslamOptions scenelib = load("configs/scenelib.yaml");
+  EXPECT_EQ(scenelib.filter.motion.sigma_a, 4.0);
+  EXPECT_EQ(scenelib.filter.motion.sigma_alpha, 6.0);
+  EXPECT_EQ(scenelib.filter.feature_init.promote_ratio, 0.3);
+
+  const Trajectory truth = *openSequence(dir_->path()).groundtruth;
+  const RunResult defaults = runTracker(dir_->path(), InitSource::Board, std::nullopt);
+  const RunResult measured =
+      runTracker(dir_->path(), InitSource::Board, std::nullopt, -1, load("configs/synthetic_presets.yaml"));
+  const auto nees_defaults = poseNees(truth, defaults.covariant, 0.01);
+  const auto nees_measured = poseNees(truth, measured.covariant, 0.01);
+  ASSERT_TRUE(nees_defaults && nees_measured);
+  // 70 frames, one sample a pixel: 0.07 with the defaults, 0.78 with the measured noise (2.1 and
+  // 0.9 mm ATE); the rest of the way to 6 is README's "Still not inside the bounds".
+  EXPECT_LT(nees_defaults->mean, 0.5);
+  EXPECT_GT(nees_measured->mean, 5 * nees_defaults->mean);
+  EXPECT_LT(nees_measured->mean, nees_measured->upper);
+  EXPECT_EQ(measured.tracked, measured.frames);
+  EXPECT_LT(measured.ateRmse(), defaults.ateRmse());
 }
 
 TEST_F(MonoslamOnTv1, GroundTruthStartTracksEveryFrameUnderOneCentimetre) {
