@@ -58,6 +58,14 @@ Scene makeScene(int outliers, unsigned seed, const Vec3& turn_error = Vec3(0.02,
   return s;
 }
 
+// Observation k's point seen from the camera in x.
+ObservationPredictor pointPredictor(const CameraModel& camera, const Scene& s) {
+  return [&camera, &s](const Eigen::VectorXd& x, size_t k, PointMeasurement* h) {
+    return predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ),
+                              x.segment<3>(s.observations[k].offset), h);
+  };
+}
+
 class OnePointRansac : public ::testing::TestWithParam<int> {};
 
 TEST_P(OnePointRansac, RejectsInjectedOutliersAndKeepsTheInliers) {
@@ -72,10 +80,7 @@ TEST_P(OnePointRansac, RejectsInjectedOutliersAndKeepsTheInliers) {
       if (!s.outlier[k]) inlier_observations.push_back(s.observations[k]);
     ASSERT_TRUE(batchUpdate(oracle, inlier_observations, 1.0));
     const double error_before = (s.state.r() - s.T_world_camera_true.t()).norm();
-    const ObservationPredictor predict = [&](const Eigen::VectorXd& x, size_t k, PointMeasurement* h) {
-      return predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ),
-                                x.segment<3>(s.observations[k].offset), h);
-    };
+    const ObservationPredictor predict = pointPredictor(camera, s);
     std::mt19937 rng(seed);
     const std::vector<size_t> used = onePointRansacUpdate(s.state, s.observations, predict, options, 1.0, rng);
     int inliers_used = 0, inliers = 0;
@@ -119,10 +124,7 @@ TEST(OnePointRansac, TwoMatchesAHypothesisUnderAWidePriorFixARoll) {
     OnePointRansacOptions options;
     if (!two) options.max_turn_sigma = 1.0;  // one match a hypothesis whatever the prior
     Scene s = makeScene(0, 1, Vec3(0, 0, 0.06), 0.04);
-    const ObservationPredictor predict = [&](const Eigen::VectorXd& x, size_t k, PointMeasurement* h) {
-      return predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ),
-                                x.segment<3>(s.observations[k].offset), h);
-    };
+    const ObservationPredictor predict = pointPredictor(camera, s);
     std::mt19937 rng(1);
     const size_t support = lowInnovationInliers(s.state, s.observations, predict, options, 1.0, rng).size();
     if (!two) {
