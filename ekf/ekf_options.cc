@@ -83,7 +83,9 @@ void StartOptions::check() const {
                                       {"manual_position_sigma", manual_position_sigma},
                                       {"manual_orientation_sigma", manual_orientation_sigma},
                                       {"velocity_sigma", velocity_sigma},
-                                      {"angular_velocity_sigma", angular_velocity_sigma}})
+                                      {"angular_velocity_sigma", angular_velocity_sigma},
+                                      {"board_free_turn_per_frame", board_free_turn_per_frame},
+                                      {"board_free_move_per_frame", board_free_move_per_frame}})
     require(sigma >= 0 && std::isfinite(sigma), field, "must be a finite standard deviation >= 0");
 }
 
@@ -117,6 +119,7 @@ void OnePointRansacOptions::check() const {
   require(probability > 0 && probability < 1, "probability", "must be in (0, 1)");
   require(max_hypotheses >= 1, "max_hypotheses", "must be at least 1");
   require(rescue_gate > 0 && rescue_gate < 1, "rescue_gate", "must be in (0, 1)");
+  require(max_turn_sigma > 0, "max_turn_sigma", "must be positive");
 }
 
 bool usesOption(const std::string& use, bool board_free) { return use == "on" || (use == "auto" && board_free); }

@@ -140,14 +140,23 @@ struct StartOptions {
   double manual_orientation_sigma = 0.02;  // per quaternion component, for --init manual
   double velocity_sigma = 0.0;          // m/s
   double angular_velocity_sigma = 0.0;  // rad/s
+  // --init none: nothing tells the first camera's motion, which a hand-held camera has (tum_fr1_rpy
+  // turns 3.7 degrees between its first two frames). Given per frame interval, as Civera 2010's
+  // 0.025 rad a frame: velocity std = move / dt, set once the first interval dt is known.
+  double board_free_turn_per_frame = 0.03;  // rad, std of the turn over the first frame interval
+  double board_free_move_per_frame = 0.01;  // units (the map's, inverse_depth.rho0), std of the move over it
   template <class V>
   void visit(V& v) {
     v("position_sigma", position_sigma, "m, first camera position std (board, groundtruth)");
     v("orientation_sigma", orientation_sigma, "first camera quaternion std per component (board, groundtruth)");
     v("manual_position_sigma", manual_position_sigma, "m, first camera position std for --init manual");
     v("manual_orientation_sigma", manual_orientation_sigma, "first quaternion std per component for --init manual");
-    v("velocity_sigma", velocity_sigma, "m/s, first velocity std");
-    v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std");
+    v("velocity_sigma", velocity_sigma, "m/s, first velocity std (board, groundtruth, manual)");
+    v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std (board, groundtruth, manual)");
+    v("board_free_turn_per_frame", board_free_turn_per_frame,
+      "rad, --init none: std of the turn over the first frame interval (angular velocity std = turn / dt)");
+    v("board_free_move_per_frame", board_free_move_per_frame,
+      "map units, --init none: std of the move over the first frame interval (velocity std = move / dt)");
   }
   void check() const;
 };
@@ -206,6 +215,12 @@ struct OnePointRansacOptions {
   double probability = 0.99;     // of drawing at least one all-inlier hypothesis (sets the count)
   int max_hypotheses = 100;      // upper bound of the adaptive count
   double rescue_gate = 0.99;     // chi2 (2 dof) probability for high-innovation inliers
+  // One match fixes a hypothesis only under a tight prior (Civera 2010 section 3): with the first
+  // motion unknown, one match is explained by a pan where the camera rolled, and the others miss.
+  // Two matches also resist a wrong one better where the prior is loose: at 0.01 rad (pairs on most
+  // frames at 10 fps or hand-held) tum_fr1_rpy's seeds 0-3 kept within 22 degrees of the ground
+  // truth; at 0.025 (pairs only at the start) one posed frames 160 degrees off.
+  double max_turn_sigma = 0.01;  // rad; under a wider predicted orientation std a hypothesis draws two matches
   template <class V>
   void visit(V& v) {
     v("use", use, "auto (on with --init none) | on | off: 1-point RANSAC instead of joint compatibility");
@@ -213,6 +228,8 @@ struct OnePointRansacOptions {
     v("probability", probability, "probability of drawing an all-inlier hypothesis (adaptive count)");
     v("max_hypotheses", max_hypotheses, "most hypotheses a frame");
     v("rescue_gate", rescue_gate, "chi2 (2 dof) probability that rescues a match after the first update");
+    v("max_turn_sigma", max_turn_sigma,
+      "rad; under a wider predicted orientation std each hypothesis is drawn from two matches");
   }
   void check() const;
 };

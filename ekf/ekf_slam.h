@@ -77,6 +77,7 @@ class EkfSlam {
   const EkfState& state() const { return state_; }
   EkfState& state() { return state_; }
   const std::vector<MapFeature>& features() const { return features_; }
+  int nextFeatureId() const { return next_id_; }  // ids grow: a feature mapped later has a larger one
   SE3 T_world_camera() const { return state_.T_world_camera(); }
   PoseCovariance poseCovariance() const;
   std::vector<MapPoint> mapPoints() const;  // points (not rays), known ones included

@@ -31,6 +31,19 @@ Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const
   return out;
 }
 
+// W = P H^T (n x 2m), S = H (P H^T) + R from the rows of W that H touches, nu = z - h.
+void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation>& observations, double pixel_sigma,
+                    Eigen::MatrixXd* W, Eigen::MatrixXd* S, Eigen::VectorXd* nu) {
+  const int m = static_cast<int>(observations.size());
+  W->resize(P.rows(), 2 * m);
+  for (int k = 0; k < m; ++k) W->middleCols<2>(2 * k) = gainNumerator(P, observations[k]);
+  S->resize(2 * m, 2 * m);
+  for (int k = 0; k < m; ++k) S->middleRows<2>(2 * k) = applyH(observations[k], *W);
+  S->diagonal().array() += pixel_sigma * pixel_sigma;
+  nu->resize(2 * m);
+  for (int k = 0; k < m; ++k) nu->segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
+}
+
 }  // namespace
 
 Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
@@ -76,17 +89,11 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma) {
   if (observations.empty()) return true;
-  const int m = static_cast<int>(observations.size()), n = state.size();
+  const int n = state.size();
   Eigen::MatrixXd& P = state.P();
-  // P H^T (n x 2m), and S = H (P H^T) + R from the rows of P H^T that H touches.
-  Eigen::MatrixXd W(n, 2 * m);
-  for (int k = 0; k < m; ++k) W.middleCols<2>(2 * k) = gainNumerator(P, observations[k]);
-  Eigen::MatrixXd S(2 * m, 2 * m);
-  for (int k = 0; k < m; ++k) S.middleRows<2>(2 * k) = applyH(observations[k], W);
-  S.diagonal().array() += pixel_sigma * pixel_sigma;
-  Eigen::VectorXd nu(2 * m);
-  for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
-
+  Eigen::MatrixXd W, S;
+  Eigen::VectorXd nu;
+  gainInnovation(P, observations, pixel_sigma, &W, &S, &nu);
   const Eigen::LLT<Eigen::MatrixXd> llt(S.selfadjointView<Eigen::Lower>());
   if (llt.info() != Eigen::Success) return false;
   llt.matrixL().solveInPlace(nu);                           // L^-1 nu
@@ -98,13 +105,14 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   return true;
 }
 
-Eigen::VectorXd stateCorrection(const EkfState& state, const PointObservation& observation, double pixel_sigma) {
-  const Eigen::MatrixXd W = gainNumerator(state.P(), observation);
-  Mat2 S = applyH(observation, W);
-  S.diagonal().array() += pixel_sigma * pixel_sigma;
-  const Eigen::LLT<Mat2> llt(S);
+Eigen::VectorXd stateCorrection(const EkfState& state, const std::vector<PointObservation>& observations,
+                                double pixel_sigma) {
+  Eigen::MatrixXd W, S;
+  Eigen::VectorXd nu;
+  gainInnovation(state.P(), observations, pixel_sigma, &W, &S, &nu);
+  const Eigen::LLT<Eigen::MatrixXd> llt(S.selfadjointView<Eigen::Lower>());
   if (llt.info() != Eigen::Success) return Eigen::VectorXd::Zero(state.size());
-  return W * llt.solve(observation.z - observation.h.uv_distorted);
+  return W * llt.solve(nu);
 }
 
 }  // namespace slamcmp

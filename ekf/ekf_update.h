@@ -34,8 +34,9 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
 
-// The state correction K (z - h) of one observation, without touching P (1-point RANSAC's
-// hypotheses, Civera et al. 2010): O(n). Zero when S is not positive definite.
-Eigen::VectorXd stateCorrection(const EkfState& state, const PointObservation& observation, double pixel_sigma);
+// The state correction K (z - h) of a few observations, without touching P (1-point RANSAC's
+// hypotheses, Civera et al. 2010): O(n m). Zero when S is not positive definite.
+Eigen::VectorXd stateCorrection(const EkfState& state, const std::vector<PointObservation>& observations,
+                                double pixel_sigma);
 
 }  // namespace slamcmp

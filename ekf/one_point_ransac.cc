@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
 #include "ekf/joint_compatibility.h"
@@ -15,11 +17,23 @@ std::vector<size_t> lowInnovationInliers(const EkfState& state, const std::vecto
   const size_t m = observations.size();
   std::vector<size_t> best;
   if (m == 0) return best;
-  std::uniform_int_distribution<size_t> pick(0, m - 1);
+  // The prior's turn std (a small rotation of angle a moves the quaternion by a / 2): beyond
+  // max_turn_sigma a hypothesis draws two matches, which fix a roll that one leaves free.
+  const Mat4 P_q = state.P().block<4, 4>(EkfState::kQ, EkfState::kQ);
+  const double turn_sigma =
+      2 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat4>(P_q, Eigen::EigenvaluesOnly).eigenvalues()(3)));
+  const size_t sample = turn_sigma > options.max_turn_sigma && m >= 2 ? 2 : 1;
+  std::vector<size_t> order(m);
+  std::iota(order.begin(), order.end(), 0);
   double hypotheses = options.max_hypotheses;
   for (int i = 0; i < hypotheses; ++i) {
-    // The hypothesis: the state after the one match alone (q renormalised), every match predicted from it.
-    Eigen::VectorXd x = state.x() + stateCorrection(state, observations[pick(rng)], pixel_sigma);
+    // The hypothesis: the state after the drawn matches alone (q renormalised), every match predicted from it.
+    std::vector<PointObservation> drawn;
+    for (size_t j = 0; j < sample; ++j) {
+      std::swap(order[j], order[std::uniform_int_distribution<size_t>(j, m - 1)(rng)]);
+      drawn.push_back(observations[order[j]]);
+    }
+    Eigen::VectorXd x = state.x() + stateCorrection(state, drawn, pixel_sigma);
     x.segment<4>(EkfState::kQ).normalize();
     std::vector<size_t> support;
     for (size_t k = 0; k < m; ++k) {
@@ -30,7 +44,7 @@ std::vector<size_t> lowInnovationInliers(const EkfState& state, const std::vecto
     if (support.size() <= best.size()) continue;
     best = std::move(support);
     // As many hypotheses as give an all-inlier draw with `probability`.
-    const double w = static_cast<double>(best.size()) / m;
+    const double w = std::pow(static_cast<double>(best.size()) / m, static_cast<double>(sample));
     hypotheses = w >= 1 ? 0 : std::min<double>(options.max_hypotheses, std::log(1 - options.probability) / std::log(1 - w));
   }
   return best;

@@ -1,5 +1,6 @@
 #include "monoslam_ekf/monoslam_tracker.h"
 
+#include <cmath>
 #include <limits>
 
 #include "core/chessboard.h"
@@ -66,13 +67,20 @@ bool MonoslamTracker::startWithoutMap(const Frame& frame, std::string* reason) {
     return false;
   }
   // The world frame is the first camera's, known exactly; the scale is the inverse-depth prior's.
-  const StartOptions& s = options_.start;
-  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
-  P0.diagonal().segment<3>(EkfState::kV).setConstant(s.velocity_sigma * s.velocity_sigma);
-  P0.diagonal().segment<3>(EkfState::kW).setConstant(s.angular_velocity_sigma * s.angular_velocity_sigma);
-  slam_.reset(SE3(), P0);
+  slam_.reset(SE3(), Eigen::Matrix<double, 13, 13>::Zero());
   started(frame.timestamp);
+  unknown_first_motion_ = true;
   return true;
+}
+
+void MonoslamTracker::setFirstMotionPrior(double dt) {
+  unknown_first_motion_ = false;
+  if (!(dt > 0)) dt = options_.filter.motion.default_dt;
+  // Nothing has correlated the velocities with the rest yet: their blocks of P are diagonal.
+  const StartOptions& s = options_.start;
+  Eigen::MatrixXd& P = slam_.state().P();
+  P.diagonal().segment<3>(EkfState::kV).setConstant(std::pow(s.board_free_move_per_frame / dt, 2));
+  P.diagonal().segment<3>(EkfState::kW).setConstant(std::pow(s.board_free_turn_per_frame / dt, 2));
 }
 
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
@@ -132,6 +140,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
 }
 
 void MonoslamTracker::started(double timestamp) {
+  trusted_id_limit_ = slam_.nextFeatureId();  // the start's features (board corners) included
   running_ = true;
   ever_started_ = true;
   reporting_.reset();
@@ -164,6 +173,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
   } else {
     {
       const StageTimer timer(&result.stages, "predict");
+      if (unknown_first_motion_) setFirstMotionPrior(frame.timestamp - last_timestamp_);
       slam_.predict(frame.timestamp - last_timestamp_);
     }
     last_timestamp_ = frame.timestamp;
@@ -174,7 +184,10 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
     visible_ = measurement.visible;
     result.measured = measurement.matched;
-    // Before updateRays and manageMap, which may remove features `measurement` points into.
+    // Before updateMap, which may remove features `measurement` points into.
+    trusted_matched_ = 0;
+    for (const FeatureSearch& s : measurement.features)
+      if (s.outcome == SearchOutcome::Matched && slam_.features()[s.index].id < trusted_id_limit_) ++trusted_matched_;
     if (want_overlay_) result.overlay = slam_.overlay(measurement, target_);
     frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
     {
@@ -191,14 +204,17 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
     }
   }
   result.features = static_cast<int>(slam_.features().size());
-  // Nothing absolute anchors a board-free map: its frames are posed again once well measured.
+  // Nothing absolute anchors a board-free map but the map itself: its frames are posed again once
+  // features mapped while it was posed are matched again (relocalised). Features mapped while its
+  // frames were lost agree with whatever pose it drifted to, and prove nothing.
   const bool anchored =
-      init_ == InitSource::None && result.measured >= options_.filter.reporting.min_measured;
+      init_ == InitSource::None && trusted_matched_ >= options_.filter.reporting.min_measured;
   if (const std::string weak = reporting_.weakness(result.measured, anchored, slam_.state()); !weak.empty()) {
     result.status = TrackStatus::Lost;  // the filter runs on; its extrapolation is not a pose
     result.reason = weak;
     return result;
   }
+  trusted_id_limit_ = slam_.nextFeatureId();
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();

@@ -32,6 +32,8 @@ class MonoslamTracker : public Tracker {
   bool start(const Frame& frame, std::string* reason);
   bool startWithoutMap(const Frame& frame, std::string* reason);  // --init none
   void started(double timestamp);  // the filter runs from this frame on
+  // --init none: the velocity prior (StartOptions::board_free_*) once the first interval dt is known.
+  void setFirstMotionPrior(double dt);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
 
   CameraModel camera_;
@@ -50,6 +52,9 @@ class MonoslamTracker : public Tracker {
   std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
+  bool unknown_first_motion_ = false;  // --init none, before the second frame
+  int trusted_id_limit_ = 0;  // features with smaller ids were mapped while the frames were posed
+  int trusted_matched_ = 0;   // of them, matched this frame
   int visible_ = 0;  // map points predicted in the image this frame
 };
 

@@ -172,7 +172,7 @@ TEST(InverseDepth, BatchUpdateWithInverseDepthBlocksEqualsTheDenseFormulas) {
   const Eigen::MatrixXd H1 = H.bottomRows<2>();
   const Eigen::MatrixXd K1 = prior.P() * H1.transpose() *
                              (H1 * prior.P() * H1.transpose() + Eigen::MatrixXd::Identity(2, 2)).inverse();
-  EXPECT_LT((stateCorrection(prior, obs[1], 1.0) - K1 * nu.tail<2>()).norm(), 1e-12);
+  EXPECT_LT((stateCorrection(prior, {obs[1]}, 1.0) - K1 * nu.tail<2>()).norm(), 1e-12);
 }
 
 }  // namespace
