@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/distortion_fold.h"
 #include "core/error.h"
 #include "core/yaml.h"
 
@@ -44,6 +45,8 @@ void checkPlausibleIntrinsics(const CameraModel& c, const std::string& path, con
     throw InputError(where, "cx " + formatNumber(c.cx) + " px is far outside the " + size + " image");
   if (!(c.cy >= -0.5 * c.height && c.cy <= 1.5 * c.height))
     throw InputError(where, "cy " + formatNumber(c.cy) + " px is far outside the " + size + " image");
+  if (const std::string fold = distortionFold(c); !fold.empty())
+    throw InputError(path + ": distortion_coefficients", fold);
 }
 
 bool CameraModel::hasDistortion() const {

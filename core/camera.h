@@ -51,7 +51,9 @@ struct CameraModel {
 
 // Focal lengths and principal point a real camera of this image size can have; anything else is a
 // unit mix-up (millimetres, another resolution) or a typo, and would only show up as a lost run.
-// Throws InputError naming `path` and `field` (the file's name for the intrinsics).
+// Then a distortion that does not fold over the image (core/distortion_fold.h).
+// Throws InputError naming `path` and `field` (the file's name for the focal lengths and principal
+// point) or distortion_coefficients.
 void checkPlausibleIntrinsics(const CameraModel& camera, const std::string& path, const std::string& field);
 
 // camera.yaml (OpenCV FileStorage): image_width, image_height, camera_matrix, distortion_coefficients.

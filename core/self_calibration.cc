@@ -5,6 +5,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "core/chessboard.h"
+#include "core/distortion_fold.h"
 #include "core/error.h"
 #include "core/progress.h"
 
@@ -39,23 +40,50 @@ bool SelfCalibrator::addView(const std::vector<cv::Point2f>& uv) {
   return true;
 }
 
-std::optional<CalibrationResult> SelfCalibrator::calibrate() const {
-  if (numViews() < options_.min_views) return std::nullopt;
+std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not) const {
+  const auto refuse = [why_not](const std::string& why) {
+    if (why_not) *why_not = why;
+    return std::nullopt;
+  };
+  if (numViews() < options_.min_views)
+    return refuse("calibration needs " + std::to_string(options_.min_views) + " views");
   std::vector<cv::Point3f> board;
   for (const Vec3& p : target_.cornersWorld())
     board.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.f);
   const std::vector<std::vector<cv::Point3f>> object(views_.size(), board);
-  cv::Mat K, dist;
-  std::vector<cv::Mat> rvecs, tvecs;
-  int flags = 0;
-  if (options_.distortion_terms == 4) flags |= cv::CALIB_FIX_K3;
-  const double rms = cv::calibrateCamera(object, views_, image_size_, K, dist, rvecs, tvecs, flags);
-  if (!std::isfinite(rms) || rms > options_.max_rms_px) return std::nullopt;
-  CalibrationResult result;
-  result.camera = CameraModel::fromOpenCV(K, dist.reshape(1, 1).colRange(0, options_.distortion_terms), image_size_);
-  result.rms_px = rms;
-  result.views = numViews();
-  return result;
+  // Views that miss the image's corners leave the outer distortion unconstrained, k3 most of all:
+  // a fit that folds there (measured: the phone video's 5-term fit, at 91 % of the way to its
+  // corners) would undistort the corners' features onto wrong rays, so it is fitted again with k3,
+  // then k2, fixed at 0.
+  struct Model {
+    int flags;
+    const char* note;
+  };
+  const bool with_k3 = options_.distortion_terms == 5;
+  std::vector<Model> models;
+  if (with_k3) models.push_back({0, ""});
+  models.push_back({cv::CALIB_FIX_K3, with_k3 ? "k3 fixed at 0: the distortion folds inside the image with it" : ""});
+  models.push_back({cv::CALIB_FIX_K2 | cv::CALIB_FIX_K3, "k2 and k3 fixed at 0: the distortion folds inside the image with them"});
+  std::string first_fold;
+  for (const Model& model : models) {
+    cv::Mat K, dist;
+    std::vector<cv::Mat> rvecs, tvecs;
+    const double rms = cv::calibrateCamera(object, views_, image_size_, K, dist, rvecs, tvecs, model.flags);
+    if (!std::isfinite(rms) || rms > options_.max_rms_px)
+      return refuse("their calibration's reprojection error, " + std::to_string(rms) + " px, is over max_rms_px " +
+                    std::to_string(options_.max_rms_px) + (first_fold.empty() ? "" : " once it does not fold"));
+    CalibrationResult result;
+    result.camera = CameraModel::fromOpenCV(K, dist.reshape(1, 1).colRange(0, options_.distortion_terms), image_size_);
+    const std::string fold = distortionFold(result.camera);
+    if (fold.empty()) {
+      result.rms_px = rms;
+      result.views = numViews();
+      result.note = model.note;
+      return result;
+    }
+    if (first_fold.empty()) first_fold = fold;
+  }
+  return refuse("their calibration was not used, even with k2 and k3 fixed at 0: " + first_fold);
 }
 
 CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,
@@ -86,13 +114,13 @@ CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarge
     calibrator.addView(uv);
   }
   progress.finish();
-  const auto result = calibrator.calibrate();
+  std::string why_not;
+  const auto result = calibrator.calibrate(&why_not);
   if (!result)
     throw InputError(where, "the " + std::to_string(target.cols) + "x" + std::to_string(target.rows) +
                                 " board was found in " + std::to_string(with_board) + " of " + std::to_string(done) +
-                                " frames, giving " + std::to_string(calibrator.numViews()) +
-                                " distinct views; calibration needs " + std::to_string(options.min_views) +
-                                " views and a reprojection error under " + std::to_string(options.max_rms_px) + " px");
+                                " frames, giving " + std::to_string(calibrator.numViews()) + " distinct views; " +
+                                why_not);
   return *result;
 }
 

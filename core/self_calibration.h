@@ -3,6 +3,7 @@
 // as they come, keeping only views that differ from all kept ones (corner positions, board size
 // and tilt in the image), then intrinsics and distortion are estimated from them.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -37,6 +38,7 @@ struct CalibrationResult {
   CameraModel camera;
   double rms_px = 0;  // reprojection error over all views
   int views = 0;
+  std::string note;  // which distortion terms were fixed at 0 beyond those asked, and why ("" if none)
 };
 
 class SelfCalibrator {
@@ -47,8 +49,10 @@ class SelfCalibrator {
   bool addView(const std::vector<cv::Point2f>& uv_distorted);
   int numViews() const { return static_cast<int>(views_.size()); }
   bool full() const { return numViews() >= options_.max_views; }
-  // Zhang's calibration on the kept views; empty with fewer than min_views or an error over max_rms_px.
-  std::optional<CalibrationResult> calibrate() const;
+  // Zhang's calibration on the kept views, refitted with fewer radial terms where the distortion
+  // folds over the image (core/distortion_fold.h); empty with fewer than min_views, an error over
+  // max_rms_px or a fold even with k1 alone, and then `why_not` (if given) says which.
+  std::optional<CalibrationResult> calibrate(std::string* why_not = nullptr) const;
 
  private:
   ChessboardTarget target_;

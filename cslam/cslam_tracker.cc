@@ -122,8 +122,9 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
     if (static_cast<int>(gathered_.size()) > options_.max_late_poses) gathered_.pop_front();
   }
   const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
+  std::string refused;  // why a calibration tried on this frame was not used
   if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
-    if (const auto calibrated = calibrator_->calibrate()) {
+    if (const auto calibrated = calibrator_->calibrate(&refused)) {
       camera_ = calibrated->camera;
       calibration_rms_px_ = calibrated->rms_px;
       focal_px_ = 0.5 * (camera_->fx + camera_->fy);
@@ -136,7 +137,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
   }
   result->status = TrackStatus::Initialising;
   result->reason = "gathering board views for self-calibration (" + std::to_string(calibrator_->numViews()) +
-                   " of " + std::to_string(options_.calibration.min_views) + ")";
+                   " of " + std::to_string(options_.calibration.min_views) + ")" + (refused.empty() ? "" : "; " + refused);
   return false;
 }
 

@@ -60,8 +60,10 @@ bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
   ++calibration_frames_;
   std::vector<cv::Point2f> corners;
   if (detectChessboard(frame.grey, target_, &corners, options_.corners.detector)) calibrator_->addView(corners);
-  if (calibrator_->full() || calibration_frames_ >= options_.calibration.max_frames) {
-    if (const auto calibration = calibrator_->calibrate()) {
+  std::string refused;  // why a calibration tried on this frame was not used
+  const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
+  if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
+    if (const auto calibration = calibrator_->calibrate(&refused)) {
       camera_ = calibration->camera;
       calibration_rms_px_ = calibration->rms_px;
       calibrator_.reset();
@@ -71,7 +73,7 @@ bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
   }
   result->status = TrackStatus::Initialising;
   result->reason = "gathering self-calibration views (" + std::to_string(calibrator_->numViews()) + " of " +
-                   std::to_string(options_.calibration.min_views) + ")";
+                   std::to_string(options_.calibration.min_views) + ")" + (refused.empty() ? "" : "; " + refused);
   return false;
 }
 

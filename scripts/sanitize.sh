@@ -21,4 +21,6 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/scripts/lsan.supp:print_su
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 cd "$build"
 # Test executables not built (when TARGETs are given) register a *_NOT_BUILT placeholder: skipped.
-ctest --output-on-failure -j"$(nproc)" --timeout 1800 -E '_NOT_BUILT$'
+# The slurm label (scripts/slurm_test.sh) is left out: it tests a cluster's daemons and job array
+# around the slamcmp binary, not our memory, and the other command-line tests run that binary.
+ctest --output-on-failure -j"$(nproc)" --timeout 1800 -E '_NOT_BUILT$' -LE slurm

@@ -35,7 +35,8 @@ void addCalibrateCommand(CLI::App& app) {
     const CalibrationResult r = calibrateFromFrames(*seq.frames, *seq.target, seq.image_size, options, args->sequence);
     writeCameraYaml(args->out, r.camera, r.rms_px);
     std::cout << "calibrated from " << r.views << " views: fx " << r.camera.fx << " fy " << r.camera.fy << " cx "
-              << r.camera.cx << " cy " << r.camera.cy << ", rms " << r.rms_px << " px -> " << args->out << "\n";
+              << r.camera.cx << " cy " << r.camera.cy << ", rms " << r.rms_px << " px"
+              << (r.note.empty() ? "" : " (" + r.note + ")") << " -> " << args->out << "\n";
   });
 }
 

@@ -204,7 +204,8 @@ std::string cameraWithDt(bool distortion, const std::string& dt) {
 // slamcmp run on a EuRoC folder in tmp whose cam0/sensor.yaml holds these values; the line names
 // sensor.yaml's `field` and says `what`.
 BadCase eurocSensorYamlCase(const std::string& name, const std::string& t_bs, const std::string& resolution,
-                            const std::string& intrinsics, const std::string& field, const std::string& what) {
+                            const std::string& intrinsics, const std::string& field, const std::string& what,
+                            const std::string& distortion = "0, 0, 0, 0") {
   return {name, [=](const TempDir& tmp) {
             const std::string cam = tmp.file("mav0/cam0");
             std::filesystem::create_directories(cam + "/data");
@@ -213,8 +214,8 @@ BadCase eurocSensorYamlCase(const std::string& name, const std::string& t_bs, co
             writeText(cam + "/data.csv", "#timestamp [ns],filename\n1000000000,1.png\n1050000000,2.png\n");
             writeText(cam + "/sensor.yaml",
                       "%YAML:1.0\nsensor_type: camera\nT_BS:\n  cols: 4\n  rows: 4\n  data: [" + t_bs +
-                          "]\nresolution: [" + resolution + "]\nintrinsics: [" + intrinsics + "]\n"
-                          "distortion_coefficients: [0, 0, 0, 0]\n");
+                          "]\nresolution: [" + resolution + "]\nintrinsics: [" + intrinsics +
+                          "]\ndistortion_coefficients: [" + distortion + "]\n");
             return Invocation{"run --backend cslam --sequence " + tmp.path() + " --out " + tmp.file("o"),
                               {cam + "/sensor.yaml: " + field, what}};
           }};
@@ -642,6 +643,19 @@ std::vector<BadCase> cases() {
       eurocResolutionCase("EurocResolutionFraction", "160.5, 120"),
       eurocResolutionCase("EurocResolutionHuge", "1e300, 120"),
       eurocResolutionCase("EurocResolutionZero", "160, 0"),
+      // Issue 16: a lens model that folds inside the image (core/distortion_fold.h), radially, through
+      // its tangential terms, or at the rational model's pole; the 160x120 image's corner is at
+      // normalised radius 0.67.
+      yamlCase("CameraDistortionFoldsRadially", "camera.yaml", camera(kK, "-5, 0, 0, 0"),
+               "distortion_coefficients: the lens model folds inside the image"),
+      yamlCase("CameraDistortionFoldsWithinTheMargin", "camera.yaml", camera(kK, "-0.3, 0, 0, 0"),
+               "distortion_coefficients: the lens model folds inside the image"),
+      yamlCase("CameraDistortionFoldsTangentially", "camera.yaml", camera(kK, "0, 0, 0.5, 0"),
+               "distortion_coefficients: the lens model folds near pixel"),
+      yamlCase("CameraDistortionRationalPole", "camera.yaml", camera(kK, "0, 0, 0, 0, 0, 1, 0, 0"),
+               "distortion_coefficients: the lens model folds inside the image"),
+      eurocSensorYamlCase("EurocDistortionFolds", kIdentity4, "160, 120", "150, 150, 79.5, 59.5",
+                          "distortion_coefficients", "the lens model folds inside the image", "-5, 0, 0, 0"),
       // Issue 16: windows, borders, patches and distances bounded by the image size (here 160x120),
       // checked once the first frame is read (they made OpenCV allocate without limit or fail an
       // assertion on a region of interest).

@@ -150,7 +150,15 @@ INSTANTIATE_TEST_SUITE_P(
                                  "   data: [ -500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n"),
                       "camera_matrix"},
         BadCameraCase{"zero_height", cameraYaml("image_width: 640\nimage_height: 0\n"),
-                      "image size"}),
+                      "image size"},
+        // r (1 - 5 r^2) stops growing at a quarter of the way to the corner (core/distortion_fold.h).
+        BadCameraCase{"distortion_folding_inside_the_image",
+                      cameraYaml("image_width: 640\nimage_height: 480\n",
+                                 "   rows: 3\n   cols: 3\n   dt: d\n"
+                                 "   data: [ 500., 0., 320., 0., 500., 240., 0., 0., 1. ]\n",
+                                 "   rows: 1\n   cols: 5\n   dt: d\n"
+                                 "   data: [ -5., 0., 0., 0., 0. ]\n"),
+                      "distortion_coefficients: the lens model folds"}),
     [](const auto& info) { return info.param.name; });
 
 }  // namespace

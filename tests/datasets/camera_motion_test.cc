@@ -141,6 +141,14 @@ TEST(CameraMotion, UnknownPresetIsAnInputError) {
   EXPECT_THROW(findMotionPreset(""), InputError);
 }
 
+// Every preset's camera passes the checks a camera.yaml's does: roll_distortion's strong barrel lens
+// does not fold over the image (core/distortion_fold.h).
+TEST(CameraMotion, EveryPresetsCameraPassesTheCameraFileChecks) {
+  for (const MotionPreset& preset : motionPresets())
+    EXPECT_NO_THROW(checkPlausibleIntrinsics(syntheticCamera(preset.name), preset.name, "camera_matrix"))
+        << preset.name;
+}
+
 // The look-at pose: camera at the given point, optical axis towards the target, roll about it.
 TEST(CameraMotion, LookAtPointsTheOpticalAxisAndRolls) {
   const Vec3 p(0.1, -0.2, -0.8), target(0.3, 0.1, 0.0);
