@@ -27,6 +27,11 @@ const BackendRegistration& findBackend(const std::string& name, const std::strin
   throw InputError(where, "unknown back-end '" + name + "' (known: " + backendNames(", ") + ")");
 }
 
+void requireTakesInit(const BackendRegistration& backend, const std::string& where) {
+  if (!backend.takes_init)
+    throw InputError(where, backend.name + " takes no --init (its world frame and start come from the board)");
+}
+
 const BackendMode& findMode(const BackendRegistration& backend, const std::string& mode, const std::string& where) {
   if (const BackendMode* m = backend.findMode(mode)) return *m;
   std::string known;

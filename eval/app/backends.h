@@ -22,6 +22,9 @@ std::string backendNames(const std::string& separator = "|");
 const BackendMode& findMode(const BackendRegistration& backend, const std::string& mode,
                             const std::string& where = "--mode");
 
+// Throws InputError(where, ...) unless the back-end takes --init (a start other than the board).
+void requireTakesInit(const BackendRegistration& backend, const std::string& where = "--init");
+
 // Every back-end with its modes and its options with their defaults, as commented YAML (run --help).
 std::string backendsHelp();
 

@@ -50,8 +50,7 @@ std::vector<Method> parseMethods(const std::string& list) {
     Method m = methodOf(name_mode.substr(0, colon), mode, where);
     if (at != std::string::npos) {
       const std::string init = item.substr(at + 1);
-      if (!findBackend(m.backend, where).takes_init)
-        throw InputError(where, m.backend + " takes no --init (its world frame and start come from the board)");
+      requireTakesInit(findBackend(m.backend, where), where);
       if (init != "board" && init != "groundtruth" && init != "none")
         throw InputError(where, "@ takes board, groundtruth or none, got '" + init + "'");
       if (init != "board") {  // the default start keeps the short label

@@ -96,11 +96,8 @@ nlohmann::json runSequence(const RunRequest& request) {
   context.target = seq.target;
   context.mode = findMode(backend, request.mode).name;
   context.image_size = seq.image_size;
-  if (backend.takes_init) {
-    setInitialisation(request.init.empty() ? "board" : request.init, seq, &context);
-  } else if (!request.init.empty()) {
-    throw InputError("--init", backend.name + " takes no --init (its world frame and start come from the board)");
-  }
+  if (!request.init.empty()) requireTakesInit(backend);
+  if (backend.takes_init) setInitialisation(request.init.empty() ? "board" : request.init, seq, &context);
   context.want_overlay = !request.overlay_path.empty() || request.show;
   const std::unique_ptr<BackendOptions> options =
       loadBackendOptions(backend, request.config_path, request.sets, request.seed, seq.image_size);
