@@ -25,7 +25,7 @@ Eigen::Matrix<double, Eigen::Dynamic, 2> gainNumerator(const Eigen::MatrixXd& P,
 }
 
 // H w for the rows of W = P H^T (or any n-row matrix) that H touches.
-Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const Eigen::MatrixXd& W) {
+Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const Eigen::Ref<const Eigen::MatrixXd>& W) {
   Eigen::Matrix<double, 2, Eigen::Dynamic> out = poseJacobian(o.h) * W.topRows<kPose>();
   if (const int d = featureDim(o)) out.noalias() += o.h.H_y * W.middleRows(o.offset, d);
   return out;
@@ -102,6 +102,38 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);  // P -= K S K^T = W W^T
   for (int j = 1; j < n; ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
+  return true;
+}
+
+bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+                    const Relinearise& relinearise, int max_iterations, double tolerance) {
+  if (observations->empty()) return true;
+  const int m = static_cast<int>(observations->size());
+  EkfState iterate = state;  // x_i (P stays the prior's)
+  Eigen::MatrixXd W, S;
+  Eigen::VectorXd nu;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  for (int i = 0; i < max_iterations; ++i) {
+    if (i > 0 && !relinearise(iterate, observations)) return false;
+    gainInnovation(state.P(), *observations, pixel_sigma, &W, &S, &nu);
+    // nu_i = z - h(x_i) - H_i (x_0 - x_i)
+    const Eigen::VectorXd dx = state.x() - iterate.x();
+    for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) -= applyH((*observations)[k], dx);
+    llt.compute(S.selfadjointView<Eigen::Lower>());
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::VectorXd next = state.x() + W * llt.solve(nu);
+    const double step = (next.head<kPose>() - iterate.x().head<kPose>()).lpNorm<Eigen::Infinity>();
+    iterate.x() = next;
+    if (step < tolerance) break;
+  }
+  // P -= K_i S_i K_i^T, as in batchUpdate.
+  llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);
+  state.x() = iterate.x();
+  Eigen::MatrixXd& P = state.P();
+  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
+  for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
+  state.renormaliseQuaternion();
+  relinearise(state, observations);  // the camera moved by a Gauss-Newton step: still in front of the points
   return true;
 }
 

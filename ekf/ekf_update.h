@@ -1,5 +1,6 @@
 #pragma once
 // The EKF update from the matched points of a frame, in one batch.
+#include <functional>
 #include <vector>
 
 #include "ekf/ekf_state.h"
@@ -33,6 +34,21 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 // and P stays exactly symmetric; the Joseph form would cost O(n^3)).
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
+
+// Re-predicts every observation's h (prediction and Jacobians) at the camera of `state`; false when
+// one cannot be predicted there (behind the camera).
+using Relinearise = std::function<bool(const EkfState& state, std::vector<PointObservation>* observations)>;
+
+// The iterated EKF update (Bell and Cathey 1993: Gauss-Newton on the prior and the measurements):
+// x_{i+1} = x_0 + K_i (z - h(x_i) - H_i (x_0 - x_i)), with H_i and K_i = P H_i^T S_i^-1 at x_i,
+// until the camera moves by less than `tolerance` (metres, quaternion units) or after
+// `max_iterations`; P from the last K_i and H_i. One iteration is batchUpdate. It matters where the
+// prior is far from the measurements compared with their noise (a board found again after a drift:
+// one linearisation there lands centimetres off). `observations` leave with h at the updated state,
+// so z - h are the update's residuals. Returns false, leaving the state untouched, when S is not
+// positive definite or an observation cannot be predicted at an iterate.
+bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+                    const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);
 
 // The state correction K (z - h) of a few observations, without touching P (1-point RANSAC's
 // hypotheses, Civera et al. 2010): O(n m). Zero when S is not positive definite.

@@ -235,6 +235,16 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   return out;
 }
 
+bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) const {
+  const Relinearise predict_at = [&](const EkfState& at, std::vector<PointObservation>* observations) {
+    for (size_t k = 0; k < observations->size(); ++k)
+      if (!predictMeasurement(camera_, at.r(), at.q(), corners_world_[m->corner_ids[k]], &(*observations)[k].h, 0.05))
+        return false;
+    return true;
+  };
+  return iteratedUpdate(state, &m->observations, options_.pixel_sigma, predict_at);
+}
+
 void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {
   PointObservation o;
   o.offset = kKnownPoint;

@@ -80,6 +80,9 @@ class BoardCornerMeasurer {
   // The corners of a board detection (SPEC order, distorted pixels), gated against the prior.
   BoardCornerMeasurement measureDetected(const EkfState& state, const cv::Mat& grey,
                                          const std::vector<cv::Point2f>& uv_distorted);
+  // The filter updated with `m`'s corners, iterated to convergence (ekf_update.h: a board found
+  // again after a drift is far from the prior); m's predictions then are the updated state's.
+  bool update(EkfState& state, BoardCornerMeasurement* m) const;
   // Forget the tracked corners (a restart).
   void reset();
 

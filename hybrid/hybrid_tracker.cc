@@ -107,7 +107,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
   slam_->reset(board_pose.T_camera_board.inverse(), P0);
   corners_->reset();
   *board = corners_->measureDetected(slam_->state(), frame.grey, uv);
-  if (board->observations.empty() || !batchUpdate(slam_->state(), board->observations, options_.corners.pixel_sigma))
+  if (board->observations.empty() || !corners_->update(slam_->state(), board))
     return false;
   running_ = true;
   ever_started_ = true;
@@ -120,11 +120,11 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
 BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* restarted) {
   const BoardCornerMeasurementOptions& co = options_.corners;
   BoardCornerMeasurement board = corners_->measure(slam_->state(), frame.grey);
-  if (!board.observations.empty() && batchUpdate(slam_->state(), board.observations, co.pixel_sigma)) {
+  if (!board.observations.empty() && corners_->update(slam_->state(), &board)) {
     frames_since_search_ = 0;
     // Corners coming into view, where the updated filter now puts them within a pixel or two.
-    const BoardCornerMeasurement entering = corners_->measureNew(slam_->state(), frame.grey);
-    if (!entering.observations.empty() && batchUpdate(slam_->state(), entering.observations, co.pixel_sigma)) {
+    BoardCornerMeasurement entering = corners_->measureNew(slam_->state(), frame.grey);
+    if (!entering.observations.empty() && corners_->update(slam_->state(), &entering)) {
       board.observations.insert(board.observations.end(), entering.observations.begin(), entering.observations.end());
       board.corner_ids.insert(board.corner_ids.end(), entering.corner_ids.begin(), entering.corner_ids.end());
     }
@@ -148,7 +148,7 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   P.diagonal().segment<3>(EkfState::kR).array() += co.reanchor_position_sigma * co.reanchor_position_sigma;
   P.diagonal().segment<4>(EkfState::kQ).array() += co.reanchor_orientation_sigma * co.reanchor_orientation_sigma;
   board = corners_->measureDetected(slam_->state(), frame.grey, found);
-  if (!board.observations.empty() && batchUpdate(slam_->state(), board.observations, co.pixel_sigma)) return board;
+  if (!board.observations.empty() && corners_->update(slam_->state(), &board)) return board;
   *restarted = true;
   if (!startFromCorners(frame, found, &board)) return BoardCornerMeasurement();
   return board;

@@ -148,20 +148,29 @@ TEST(HybridTracker, PartialBoardIsAsGoodAsTheWholeBoard) {
 
 // wall_turn, 240 frames: 12 s facing another wall. Frames the filter cannot pose well are lost,
 // never invented (no reported pose 5 cm off); the board re-anchors it within 5 frames of its return.
+// Also with the corners' noise at the renders' 0.06 px: the first corners found again are then far
+// from the drifted prior for their noise, where one linearisation missed by 13 cm (the update is
+// iterated, ekf_update.h).
 TEST(HybridTracker, AnotherWallThenTheBoardAgain) {
   TempDir dir;
-  const TrackedRun run = runOn(render(dir, "wall_turn", 240));
-  for (size_t i = 0; i < run.frames.size(); ++i)
-    if (run.frames[i].error) {
-      EXPECT_LT(*run.frames[i].error, 0.05) << "frame " << i;
+  const std::string path = render(dir, "wall_turn", 240);
+  for (const double corner_sigma : {0.2, 0.06}) {
+    SCOPED_TRACE("corners.pixel_sigma " + std::to_string(corner_sigma));
+    HybridOptions options;
+    options.corners.pixel_sigma = corner_sigma;
+    const TrackedRun run = runOn(path, -1, true, options);
+    for (size_t i = 0; i < run.frames.size(); ++i)
+      if (run.frames[i].error) {
+        EXPECT_LT(*run.frames[i].error, 0.05) << "frame " << i;
+      }
+    size_t back = 0;
+    for (size_t i = 100; i < run.frames.size() && back == 0; ++i)
+      if (run.frames[i].corners_in_view == run.corners) back = i;
+    ASSERT_GT(back, 0u);
+    for (size_t i = back + 5; i < run.frames.size(); ++i) {
+      ASSERT_TRUE(run.frames[i].error) << "frame " << i << ": " << run.frames[i].reason;
+      EXPECT_LT(*run.frames[i].error, 0.003) << "frame " << i;
     }
-  size_t back = 0;
-  for (size_t i = 100; i < run.frames.size() && back == 0; ++i)
-    if (run.frames[i].corners_in_view == run.corners) back = i;
-  ASSERT_GT(back, 0u);
-  for (size_t i = back + 5; i < run.frames.size(); ++i) {
-    ASSERT_TRUE(run.frames[i].error) << "frame " << i << ": " << run.frames[i].reason;
-    EXPECT_LT(*run.frames[i].error, 0.003) << "frame " << i;
   }
 }
 
