@@ -234,6 +234,35 @@ struct OnePointRansacOptions {
   void check() const;
 };
 
+// A board-free run that lost its frames has nothing but its own map to anchor it again: each
+// feature keeps the ORB descriptor (Rublee et al. 2011) of its first view, and while the frames are
+// lost the frame's corners (Shi-Tomasi, as the features were chosen) are described alike and
+// matched to the map's, and the camera is the PnP RANSAC pose of the matched points (the
+// relocalisation of PTAM and ORB-SLAM). The filter then resumes from that pose with the map it had
+// while posed.
+struct RelocalisationOptions {
+  std::string use = "auto";      // auto (on with --init none) | on | off
+  int interval = 3;              // frames between attempts while lost
+  int frame_corners = 1000;      // corners of the frame described and matched
+  double ratio = 0.8;            // a match's Hamming distance under this times the second best's (Lowe)
+  int min_inliers = 6;           // PnP RANSAC inliers to accept a pose (a map of 12 features)
+  double max_error_px = 3.0;     // PnP RANSAC inlier threshold, pixels
+  double position_sigma = 0.05;  // units, the relocalised camera position's std
+  double orientation_sigma = 0.02;  // per quaternion component
+  template <class V>
+  void visit(V& v) {
+    v("use", use, "auto (on with --init none) | on | off: relocalise lost frames against the map (ORB + PnP RANSAC)");
+    v("interval", interval, "frames between relocalisation attempts while lost");
+    v("frame_corners", frame_corners, "strongest corners of the frame described and matched to the map");
+    v("ratio", ratio, "Lowe's ratio test for the descriptor matches");
+    v("min_inliers", min_inliers, "PnP RANSAC inliers needed to accept a pose");
+    v("max_error_px", max_error_px, "PnP RANSAC inlier threshold, pixels");
+    v("position_sigma", position_sigma, "units (metres with a board), std of the relocalised camera position");
+    v("orientation_sigma", orientation_sigma, "std of each quaternion component of the relocalised camera");
+  }
+  void check() const;
+};
+
 // "auto" resolved: on for a board-free start.
 bool usesOption(const std::string& use, bool board_free);
 

@@ -32,7 +32,10 @@ EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool 
     : camera_(camera),
       options_(options),
       inverse_depth_(usesOption(options.inverse_depth.use, board_free)),
-      ransac_(usesOption(options.ransac.use, board_free)) {}
+      ransac_(usesOption(options.ransac.use, board_free)) {
+  if (usesOption(options.relocalisation.use, board_free))
+    relocaliser_ = std::make_unique<Relocaliser>(options.relocalisation);
+}
 
 void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
   state_.reset(T_world_camera, P_camera);
@@ -119,7 +122,8 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<V
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
     const MapFeature& f = features_[i];
-    if (!f.is_ray && f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts)
+    if (!f.is_ray && f.id >= protected_below_ && f.attempts >= mo.min_attempts &&
+        f.successes < mo.min_success_ratio * f.attempts)
       removeFeature(i);
     else
       ++i;
@@ -154,6 +158,7 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
       patchStdDev(f.ray_template) < options_.search.min_patch_stddev)
     return false;
   f.id = next_id_++;
+  if (relocaliser_) f.descriptor = relocaliser_->describe(grey, uv);
   if (inverse_depth_) {
     const InverseDepthOptions& io = options_.inverse_depth;
     f.inverse_depth = true;
@@ -203,6 +208,39 @@ PoseCovariance EkfSlam::poseCovariance() const {
   G.bottomRightCorner<3, 4>() = J;
   const PoseCovariance P = G * state_.P().topLeftCorner<7, 7>() * G.transpose();
   return 0.5 * (P + P.transpose());
+}
+
+std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* inliers) const {
+  *inliers = 0;
+  if (!relocaliser_) return std::nullopt;
+  std::vector<Vec3> p_world;
+  cv::Mat descriptors;
+  for (const MapFeature& f : features_) {
+    if (f.id >= below_id || f.is_ray || f.descriptor.empty()) continue;
+    // An inverse-depth feature whose depth is still unknown (rho within two std of 0) has no point.
+    if (f.inverse_depth) {
+      const double rho = state_.x()(f.offset + 5), var = state_.P()(f.offset + 5, f.offset + 5);
+      if (!(rho > 2 * std::sqrt(std::max(0.0, var)))) continue;
+    }
+    p_world.push_back(featurePoint(state_.x(), f));
+    descriptors.push_back(f.descriptor);
+  }
+  return relocaliser_->relocalise(grey, camera_, p_world, descriptors, inliers);
+}
+
+void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {
+  for (size_t i = features_.size(); i-- > 0;)
+    if (features_[i].id >= below_id && !features_[i].known) removeFeature(i);
+  for (MapFeature& f : features_) f.attempts = f.successes;
+  const Quat q = T_world_camera.quat();
+  Eigen::VectorXd& x = state_.x();
+  x.segment<3>(EkfState::kR) = T_world_camera.t();
+  x.segment<4>(EkfState::kQ) << q.w(), q.x(), q.y(), q.z();
+  x.segment<6>(EkfState::kV).setZero();
+  Eigen::MatrixXd& P = state_.P();
+  P.topRows<EkfState::kCameraDim>().setZero();
+  P.leftCols<EkfState::kCameraDim>().setZero();
+  P.topLeftCorner<EkfState::kCameraDim, EkfState::kCameraDim>() = P_camera;
 }
 
 std::vector<MapPoint> EkfSlam::mapPoints() const {

@@ -4,6 +4,8 @@
 // depth-particle rays in free image boxes and pruned of features that fail. A back-end decides when
 // it starts and what else it measures (monoslam: four board corners in the state; hybrid: every
 // board corner as a known landmark).
+#include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "ekf/ekf_state.h"
 #include "ekf/frame_measurement.h"
 #include "ekf/map_feature.h"
+#include "ekf/relocaliser.h"
 
 namespace slamcmp {
 
@@ -32,6 +35,7 @@ struct EkfSlamOptions {
   ReportingOptions reporting;
   InverseDepthOptions inverse_depth;  // board-free start (issue 18)
   OnePointRansacOptions ransac;
+  RelocalisationOptions relocalisation;
 };
 
 template <class V>
@@ -44,6 +48,7 @@ void visitFilterOptions(V& v, EkfSlamOptions& o) {
   v("reporting", o.reporting, "when frames are reported lost instead of extrapolated");
   v("inverse_depth", o.inverse_depth, "features in inverse depth (Civera 2008; board-free start)");
   v("ransac", o.ransac, "1-point RANSAC update (Civera 2010; board-free start)");
+  v("relocalisation", o.relocalisation, "lost frames relocalised against the map (board-free start)");
 }
 
 class EkfSlam {
@@ -69,6 +74,19 @@ class EkfSlam {
   // and of `keep_clear` (pixels, e.g. a board's corners: its repeated squares are a patch search's
   // worst case).
   void updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear = {});
+
+  // Whether features keep descriptors and lost frames can be relocalised (relocalisation.use).
+  bool relocalises() const { return relocaliser_ != nullptr; }
+  // The camera's pose found again from the map's features with ids under `below_id` (those mapped
+  // while the frames were posed) matched in `grey`; nullopt if too few agree. *inliers: how many did.
+  std::optional<SE3> relocalise(const cv::Mat& grey, int below_id, int* inliers) const;
+  // The camera moved to T_world_camera with covariance P_camera, at rest, uncorrelated with the
+  // map, which keeps its features under `below_id` (the others were mapped from a lost pose) with
+  // their failed searches forgotten.
+  void relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id);
+  // Features with ids under `id` are not deleted for failing (while the frames are lost their
+  // searches fail for the pose's fault, not theirs); 0 lifts it.
+  void protectFeaturesBelow(int id) { protected_below_ = id; }
 
   // Why the filter cannot be trusted ("" if it can): not finite, not positive semi-definite, a
   // position std, speed or angular speed beyond the health options.
@@ -99,6 +117,8 @@ class EkfSlam {
   EkfState state_;
   std::vector<MapFeature> features_;
   int next_id_ = 0;
+  int protected_below_ = 0;
+  std::unique_ptr<Relocaliser> relocaliser_;  // when relocalisation is used
   std::mt19937 rng_{static_cast<std::mt19937::result_type>(options_.feature_init.seed)};
 };
 

@@ -156,8 +156,43 @@ std::string MonoslamTracker::divergence() const {
   return "";
 }
 
+bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
+  int inliers = 0;
+  const std::optional<SE3> T_world_camera = slam_.relocalise(frame.grey, trusted_id_limit_, &inliers);
+  if (!T_world_camera) return false;
+  const RelocalisationOptions& ro = options_.filter.relocalisation;
+  // The motion after a loss is as unknown as the first one: its prior is set per frame interval
+  // once the next frame gives the interval (setFirstMotionPrior).
+  Eigen::Matrix<double, 13, 13> P = Eigen::Matrix<double, 13, 13>::Zero();
+  P.diagonal().head<7>() << Vec3::Constant(ro.position_sigma * ro.position_sigma),
+      Vec4::Constant(ro.orientation_sigma * ro.orientation_sigma);
+  slam_.relocate(*T_world_camera, P, trusted_id_limit_);
+  unknown_first_motion_ = true;
+  running_ = true;
+  reporting_.reset();
+  frames_unmeasured_ = 0;
+  last_timestamp_ = frame.timestamp;
+  result->reason = "relocalised against the map (" + std::to_string(inliers) + " points agree)";
+  return true;
+}
+
 FrameResult MonoslamTracker::track(const Frame& frame) {
   FrameResult result;
+  // A lost board-free run: its map is all that can anchor it again.
+  bool relocalised = false;
+  if (lost_ && slam_.relocalises() && init_ == InitSource::None &&
+      frames_lost_ % options_.filter.relocalisation.interval == 0) {
+    const StageTimer timer(&result.stages, "features");  // the map's features searched in the whole frame
+    relocalised = relocalise(frame, &result);
+  }
+  slam_.protectFeaturesBelow(lost_ && !relocalised ? trusted_id_limit_ : 0);
+  result = trackFrame(frame, relocalised, std::move(result));
+  lost_ = ever_started_ && !result.T_world_camera;
+  frames_lost_ = lost_ ? frames_lost_ + 1 : 0;
+  return result;
+}
+
+FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
   if (!running_) {
     std::string reason;
     if (!start(frame, &reason)) {
@@ -173,8 +208,10 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
   } else {
     {
       const StageTimer timer(&result.stages, "predict");
-      if (unknown_first_motion_) setFirstMotionPrior(frame.timestamp - last_timestamp_);
-      slam_.predict(frame.timestamp - last_timestamp_);
+      if (!relocalised) {  // else placed in this frame
+        if (unknown_first_motion_) setFirstMotionPrior(frame.timestamp - last_timestamp_);
+        slam_.predict(frame.timestamp - last_timestamp_);
+      }
     }
     last_timestamp_ = frame.timestamp;
     FrameMeasurement measurement;

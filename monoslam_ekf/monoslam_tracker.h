@@ -35,6 +35,11 @@ class MonoslamTracker : public Tracker {
   // --init none: the velocity prior (StartOptions::board_free_*) once the first interval dt is known.
   void setFirstMotionPrior(double dt);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
+  // A board-free run's lost camera found again against the map mapped while it was posed; the
+  // filter then runs from that pose. False when it was not (*result untouched).
+  bool relocalise(const Frame& frame, FrameResult* result);
+  // One frame of the filter (track() after any relocalisation; `result` holds its stages so far).
+  FrameResult trackFrame(const Frame& frame, bool relocalised, FrameResult result);
 
   CameraModel camera_;
   ChessboardTarget target_;
@@ -56,6 +61,8 @@ class MonoslamTracker : public Tracker {
   int trusted_id_limit_ = 0;  // features with smaller ids were mapped while the frames were posed
   int trusted_matched_ = 0;   // of them, matched this frame
   int visible_ = 0;  // map points predicted in the image this frame
+  bool lost_ = false;        // the last frame was not posed (after the start)
+  int frames_lost_ = 0;      // since the last posed frame
 };
 
 // The back-end's registration (core/backend_registry.h): one mode, "ekf".

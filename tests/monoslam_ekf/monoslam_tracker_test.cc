@@ -10,6 +10,7 @@
 #include <memory>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "core/sequence.h"
@@ -96,6 +97,47 @@ TEST_F(MonoslamOnTv1, BoardStartTracksEveryFrameUnderOneCentimetre) {
   EXPECT_LT(run.ateRmse(), 0.01);
   for (const FrameResult& r : run.results) EXPECT_LE(r.measured, 12);
   EXPECT_GT(run.results.back().measured, 5);
+}
+
+// A board-free run whose lens is covered for 15 frames (a burst of blur, a hand over it): the
+// frames it cannot see are lost, and it is posed again against the map it made before, not
+// against features mapped while lost, through the rest of the run. Without relocalisation it
+// stays lost to the end (its map is all that could anchor it).
+TEST_F(MonoslamOnTv1, BoardFreeRunRelocalisesAfterABlackout) {
+  test::TempDir dir;
+  std::filesystem::copy(dir_->path(), dir.path(), std::filesystem::copy_options::recursive |
+                                                      std::filesystem::copy_options::overwrite_existing);
+  const int dark_from = 30, dark_to = 45;
+  for (int i = dark_from; i < dark_to; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "rgb/%06d.png", i);
+    ASSERT_TRUE(cv::imwrite(dir.file(name), cv::Mat::zeros(480, 640, CV_8UC3)));
+  }
+  const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt);
+  ASSERT_EQ(run.frames, 70);
+  for (int i = 0; i < dark_from; ++i) EXPECT_TRUE(run.results[i].T_world_camera) << "frame " << i;
+  // Black frames: lost, or (the first two, PoseReporting's max_weak_frames) extrapolated and saying so.
+  for (int i = dark_from; i < dark_to; ++i) {
+    EXPECT_FALSE(run.results[i].reason.empty()) << "frame " << i;
+    if (run.results[i].T_world_camera) {
+      EXPECT_LT(i, dark_from + 2);
+      EXPECT_EQ(run.results[i].reason, "no feature matched: prediction only");
+    }
+  }
+  int back = -1;
+  for (int i = dark_to; i < run.frames && back < 0; ++i)
+    if (run.results[i].reason.find("relocalised against the map") != std::string::npos) back = i;
+  ASSERT_GE(back, dark_to);
+  EXPECT_LE(back, dark_to + 3) << "an attempt every 3 lost frames";
+  for (int i = back; i < run.frames; ++i) EXPECT_TRUE(run.results[i].T_world_camera) << "frame " << i;
+  // One Sim(3) fits the poses before and after: the same map, at the same scale.
+  EXPECT_LT(sim3Ate(dir.path(), run), 0.005);
+
+  MonoslamOptions no_relocalisation;
+  no_relocalisation.filter.relocalisation.use = "off";
+  const RunResult stays_lost = runTracker(dir.path(), InitSource::None, std::nullopt, -1, no_relocalisation);
+  EXPECT_EQ(stays_lost.tracked, dark_from + 2);  // the two extrapolated black frames
+  for (int i = dark_to; i < stays_lost.frames; ++i) EXPECT_FALSE(stays_lost.results[i].T_world_camera);
 }
 
 // The noise measured on the presets (configs/synthetic_presets.yaml, README "Consistency"): the
@@ -280,46 +322,57 @@ TEST(MonoslamTracker, RealVamrCheckerboardFirst150Frames) {
 // against the ground truth RMSE 5.9 degrees, at most 9.7. Before the first motion was given a
 // prior the filter lost frames 2-5 and, for good, frame 62. Not met: the 2 degrees and
 // 3 cm (the filter turns about 10 % more than the ground truth on this sequence; synthetic runs
-// turn as their ground truth to 1 %), and the 170 degrees/s burst near frame 113 is a knife edge
-// (feature_init.seed 1, 2, 3: 250, 78, 120 frames posed; lost frames reported, never invented).
+// turn as their ground truth to 1 %). Seed 2 loses its frames at frame 78 (its matches dwindle)
+// and, before relocalisation, stayed lost to the end (78 posed); relocalised against its map it
+// poses 244, orientation RMSE 6.2 degrees, at most 8.9, Sim(3) ATE 5.1 cm. Seed 3 (lost in the
+// 170 degrees/s burst near frame 113) is not relocalised: 120 posed, lost frames reported, never
+// invented.
 TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const std::string sequence = shared + "/tum_fr1_rpy";
   if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
-  test::TempDir out;
-  const test::CommandResult r = test::runSlamcmp(
-      "run --backend monoslam --init none --sequence '" + sequence + "' --out '" + out.path() +
-      "' --set monoslam.motion.sigma_alpha=12 --set monoslam.feature_init.min_visible=25"
-      " --set monoslam.search.features_per_frame=30 --set monoslam.map.min_attempts=5");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(out.file("summary.json"));
-  const nlohmann::json summary = nlohmann::json::parse(in);
-  EXPECT_EQ(summary["frames"], 250);
-  EXPECT_EQ(summary["tracked"].get<int>() + summary["lost"].get<int>(), 250);
-  EXPECT_GE(summary["tracked"].get<int>(), 0.9 * 250);
-  EXPECT_EQ(summary["alignment"], "sim3");
-  EXPECT_GT(summary["scale"].get<double>(), 0.0);
-  EXPECT_LE(summary["ate"]["trans"]["rmse"].get<double>(), 0.045);
-  // Never a made-up pose: trajectory.txt holds exactly the posed frames.
-  const Trajectory estimate = readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum);
-  ASSERT_EQ(estimate.size(), summary["tracked"].get<size_t>());
-  // Orientation without any fit: a board-free run's world frame is its first camera's, so the
-  // ground truth there is R_gt(first)^T R_gt (a position-only Sim(3) leaves the rotation of a
-  // turn on the spot ill-determined).
   const Trajectory groundtruth = readTrajectory(sequence + "/groundtruth.txt", TrajectoryFormat::Tum);
-  const PosePairs pairs = associateByTime(groundtruth, estimate, 0.01);
-  ASSERT_EQ(pairs.estimate.front(), 0u);
-  const Mat3 R_first = groundtruth[pairs.groundtruth.front()].T_world_camera.R();
-  double sum2 = 0, worst = 0;
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    const Mat3 R_gt = R_first.transpose() * groundtruth[pairs.groundtruth[k]].T_world_camera.R();
-    const double e = rotvecFromRotation(R_gt.transpose() * estimate[pairs.estimate[k]].T_world_camera.R()).norm();
-    sum2 += e * e;
-    worst = std::max(worst, e);
+  struct Expected {
+    int seed, min_posed;
+    double max_ate_m;
+  };
+  for (const Expected& expected : {Expected{0, 225, 0.045}, Expected{2, 240, 0.06}}) {
+    SCOPED_TRACE("feature_init.seed " + std::to_string(expected.seed));
+    test::TempDir out;
+    const test::CommandResult r = test::runSlamcmp(
+        "run --backend monoslam --init none --sequence '" + sequence + "' --out '" + out.path() +
+        "' --set monoslam.motion.sigma_alpha=12 --set monoslam.feature_init.min_visible=25"
+        " --set monoslam.search.features_per_frame=30 --set monoslam.map.min_attempts=5"
+        " --set monoslam.feature_init.seed=" + std::to_string(expected.seed));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(out.file("summary.json"));
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    EXPECT_EQ(summary["frames"], 250);
+    EXPECT_EQ(summary["tracked"].get<int>() + summary["lost"].get<int>(), 250);
+    EXPECT_GE(summary["tracked"].get<int>(), expected.min_posed);
+    EXPECT_EQ(summary["alignment"], "sim3");
+    EXPECT_GT(summary["scale"].get<double>(), 0.0);
+    EXPECT_LE(summary["ate"]["trans"]["rmse"].get<double>(), expected.max_ate_m);
+    // Never a made-up pose: trajectory.txt holds exactly the posed frames.
+    const Trajectory estimate = readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum);
+    ASSERT_EQ(estimate.size(), summary["tracked"].get<size_t>());
+    // Orientation without any fit: a board-free run's world frame is its first camera's, so the
+    // ground truth there is R_gt(first)^T R_gt (a position-only Sim(3) leaves the rotation of a
+    // turn on the spot ill-determined). A relocalised frame is held to it like any other.
+    const PosePairs pairs = associateByTime(groundtruth, estimate, 0.01);
+    ASSERT_EQ(pairs.estimate.front(), 0u);
+    const Mat3 R_first = groundtruth[pairs.groundtruth.front()].T_world_camera.R();
+    double sum2 = 0, worst = 0;
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      const Mat3 R_gt = R_first.transpose() * groundtruth[pairs.groundtruth[k]].T_world_camera.R();
+      const double e = rotvecFromRotation(R_gt.transpose() * estimate[pairs.estimate[k]].T_world_camera.R()).norm();
+      sum2 += e * e;
+      worst = std::max(worst, e);
+    }
+    const double degree = M_PI / 180;
+    EXPECT_LE(std::sqrt(sum2 / pairs.size()), 8 * degree);
+    EXPECT_LE(worst, 13 * degree);
   }
-  const double degree = M_PI / 180;
-  EXPECT_LE(std::sqrt(sum2 / pairs.size()), 8 * degree);
-  EXPECT_LE(worst, 13 * degree);
 }
 
 // Without a board in view the tracker waits, says why, and never reports a pose.

@@ -1,0 +1,97 @@
+#include "ekf/relocaliser.h"
+
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace slamcmp {
+
+namespace {
+
+constexpr int kOrbPatch = 31;  // ORB's patch side and the border it keeps (OpenCV's defaults)
+
+// ORB's orientation (Rublee et al. 2011, eq. 2-3): the angle of the intensity centroid of the
+// disc of radius 15 around the corner, in degrees as cv::KeyPoint holds it.
+float centroidAngleDeg(const cv::Mat& grey, const cv::Point2f& uv) {
+  const int r = kOrbPatch / 2;
+  const int cx = cvRound(uv.x), cy = cvRound(uv.y);
+  double m10 = 0, m01 = 0;
+  for (int dy = -r; dy <= r; ++dy)
+    for (int dx = -r; dx <= r; ++dx) {
+      if (dx * dx + dy * dy > r * r) continue;
+      const double v = grey.at<uchar>(cy + dy, cx + dx);
+      m10 += dx * v;
+      m01 += dy * v;
+    }
+  double angle = std::atan2(m01, m10) * 180.0 / M_PI;
+  if (angle < 0) angle += 360;
+  return static_cast<float>(angle);
+}
+
+}  // namespace
+
+Relocaliser::Relocaliser(const RelocalisationOptions& options) : options_(options), orb_(cv::ORB::create()) {}
+
+cv::Mat Relocaliser::describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv) const {
+  // ORB drops keypoints within its patch of the border; the disc above must fit too.
+  const float border = kOrbPatch + 1;
+  std::vector<cv::KeyPoint> keypoints;
+  std::vector<cv::Point2f> kept;
+  for (const cv::Point2f& p : *uv) {
+    if (!(p.x >= border && p.y >= border && p.x < grey.cols - border && p.y < grey.rows - border)) continue;
+    keypoints.emplace_back(p, static_cast<float>(kOrbPatch), centroidAngleDeg(grey, p));
+    kept.push_back(p);
+  }
+  cv::Mat descriptors;
+  if (!keypoints.empty()) orb_->compute(grey, keypoints, descriptors);
+  if (keypoints.size() != kept.size()) return {};  // ORB kept every one inside its border before
+  uv->swap(kept);
+  return descriptors;
+}
+
+cv::Mat Relocaliser::describe(const cv::Mat& grey, const Vec2& uv) const {
+  std::vector<cv::Point2f> one = {cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()))};
+  const cv::Mat descriptor = describeAll(grey, &one);
+  return one.size() == 1 ? descriptor : cv::Mat();
+}
+
+std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraModel& camera,
+                                           const std::vector<Vec3>& p_world, const cv::Mat& descriptors,
+                                           int* inliers) const {
+  *inliers = 0;
+  if (static_cast<int>(p_world.size()) < options_.min_inliers) return std::nullopt;
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(grey, corners, options_.frame_corners, 0.001, 5);
+  const cv::Mat frame_descriptors = describeAll(grey, &corners);
+  if (corners.size() < 2) return std::nullopt;
+  std::vector<std::vector<cv::DMatch>> matches;
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(descriptors, frame_descriptors, matches, 2);
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;  // normalised: the lens's distortion removed
+  for (const std::vector<cv::DMatch>& m : matches) {
+    if (m.size() < 2 || m[0].distance >= options_.ratio * m[1].distance) continue;
+    const Vec3& p = p_world[m[0].queryIdx];
+    const cv::Point2f& uv = corners[m[0].trainIdx];
+    const Vec2 xy = camera.undistortPixel(Vec2(uv.x, uv.y));
+    object.emplace_back(p.x(), p.y(), p.z());
+    image.emplace_back(xy.x(), xy.y());
+  }
+  if (static_cast<int>(object.size()) < options_.min_inliers) return std::nullopt;
+  cv::Mat rvec, tvec;
+  std::vector<int> kept;
+  const double focal = 0.5 * (camera.fx + camera.fy);
+  if (!cv::solvePnPRansac(object, image, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false, 300,
+                          static_cast<float>(options_.max_error_px / focal), 0.999, kept) ||
+      static_cast<int>(kept.size()) < options_.min_inliers)
+    return std::nullopt;
+  *inliers = static_cast<int>(kept.size());
+  Vec3 rotvec, t;
+  cv::cv2eigen(rvec, rotvec);
+  cv::cv2eigen(tvec, t);
+  if (!rotvec.allFinite() || !t.allFinite()) return std::nullopt;
+  return SE3::fromRotvec(rotvec, t).inverse();  // solvePnP gives T_camera_world
+}
+
+}  // namespace slamcmp

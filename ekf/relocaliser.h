@@ -1,0 +1,37 @@
+#pragma once
+// A lost filter's camera found again against its own map (RelocalisationOptions, ekf_options.h):
+// the ORB descriptor of each feature's first view matched among the frame's corners described
+// alike, and the PnP RANSAC pose of the matched map points.
+#include <optional>
+#include <vector>
+
+#include <opencv2/features2d.hpp>
+
+#include "core/camera.h"
+#include "core/geometry.h"
+#include "ekf/ekf_options.h"
+
+namespace slamcmp {
+
+class Relocaliser {
+ public:
+  explicit Relocaliser(const RelocalisationOptions& options);
+
+  // The ORB descriptor (1 x 32 bytes) of the corner at uv, steered by its intensity centroid as
+  // ORB's own keypoints are; empty within ORB's 31-pixel patch of the image border.
+  cv::Mat describe(const cv::Mat& grey, const Vec2& uv) const;
+  // The camera's pose from the map points p_world (row k of `descriptors` describes point k)
+  // matched in `grey`: nullopt when fewer than min_inliers agree. *inliers: how many did.
+  std::optional<SE3> relocalise(const cv::Mat& grey, const CameraModel& camera, const std::vector<Vec3>& p_world,
+                                const cv::Mat& descriptors, int* inliers) const;
+
+ private:
+  // ORB descriptors of the corners at `uv` (rows of the returned matrix); corners too near the
+  // border are dropped from `uv`.
+  cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv) const;
+
+  RelocalisationOptions options_;
+  cv::Ptr<cv::ORB> orb_;
+};
+
+}  // namespace slamcmp

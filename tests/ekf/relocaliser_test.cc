@@ -1,0 +1,120 @@
+#include "ekf/relocaliser.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace slamcmp {
+namespace {
+
+// A wall like the presets' (shapes of random grey on grey, plane z = kPlaneZ, 2.4 m square), seen
+// through a pinhole camera: the image is the wall's texture under the plane's homography.
+constexpr double kPlaneZ = 1.5;
+constexpr double kTexturePxPerM = 500;
+constexpr int kTextureSide = 1200;
+
+cv::Mat wallTexture(unsigned seed = 3) {
+  cv::Mat texture(kTextureSide, kTextureSide, CV_8U, cv::Scalar(128));
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> at(0, kTextureSide - 1), size(3, 25), grey(0, 255), round(0, 1);
+  for (int i = 0; i < 6000; ++i) {
+    const cv::Point c(at(rng), at(rng));
+    const int s = size(rng);
+    const cv::Scalar g(grey(rng));
+    if (round(rng))
+      cv::circle(texture, c, s / 2, g, -1, cv::LINE_AA);
+    else
+      cv::rectangle(texture, cv::Rect(c.x, c.y, s, s), g, -1, cv::LINE_AA);
+  }
+  return texture;
+}
+
+CameraModel pinhole() {
+  CameraModel camera;
+  camera.width = 640;
+  camera.height = 480;
+  camera.fx = camera.fy = 520;
+  camera.cx = 319.5;
+  camera.cy = 239.5;
+  return camera;
+}
+
+cv::Mat renderWall(const cv::Mat& texture, const CameraModel& camera, const SE3& T_world_camera) {
+  // Texture pixel (u, v) is the wall point ((u - side/2) / px_per_m, (v - side/2) / px_per_m, z).
+  const SE3 T_camera_world = T_world_camera.inverse();
+  const Mat3& R = T_camera_world.R();
+  Mat3 A;
+  A.col(0) = R.col(0) / kTexturePxPerM;
+  A.col(1) = R.col(1) / kTexturePxPerM;
+  A.col(2) = R.col(2) * kPlaneZ + T_camera_world.t() - (R.col(0) + R.col(1)) * (kTextureSide / 2.0) / kTexturePxPerM;
+  Mat3 K;
+  K << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1;
+  const Mat3 H = K * A;
+  cv::Mat H_cv(3, 3, CV_64F);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) H_cv.at<double>(i, j) = H(i, j);
+  cv::Mat image;
+  cv::warpPerspective(texture, image, H_cv, cv::Size(camera.width, camera.height), cv::INTER_LINEAR,
+                      cv::BORDER_CONSTANT, cv::Scalar(0));
+  return image;
+}
+
+// A map as a filter would hold it: corners of the first view on the wall, each with the
+// descriptor of that view.
+struct WallMap {
+  std::vector<Vec3> p_world;
+  cv::Mat descriptors;
+};
+
+WallMap mapFromFirstView(const Relocaliser& relocaliser, const CameraModel& camera, const cv::Mat& grey) {
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(grey, corners, 150, 0.01, 12);
+  WallMap map;
+  for (const cv::Point2f& c : corners) {
+    const cv::Mat d = relocaliser.describe(grey, Vec2(c.x, c.y));
+    if (d.empty()) continue;
+    const Vec2 xy = camera.undistortPixel(Vec2(c.x, c.y));
+    map.p_world.push_back(Vec3(xy.x(), xy.y(), 1.0) * kPlaneZ);  // the first camera is the world
+    map.descriptors.push_back(d);
+  }
+  return map;
+}
+
+// A camera that moved 8 cm and turned (a 25-degree roll among it) since the map was made is found
+// again from the map alone, to the millimetres its pixel-grid corners allow.
+TEST(Relocaliser, FindsTheCameraAgainFromTheMap) {
+  const CameraModel camera = pinhole();
+  const cv::Mat texture = wallTexture();
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  const WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
+  ASSERT_GE(map.p_world.size(), 100u) << "corners away from the border get a descriptor";
+
+  for (const SE3& T_world_camera : {SE3::fromRotvec(Vec3(0, 0, 0.1), Vec3(0.02, 0, 0)),
+                                    SE3::fromRotvec(Vec3(0.05, -0.08, 0.44), Vec3(0.05, -0.04, 0.05))}) {
+    int inliers = 0;
+    const std::optional<SE3> found = relocaliser.relocalise(renderWall(texture, camera, T_world_camera), camera,
+                                                            map.p_world, map.descriptors, &inliers);
+    ASSERT_TRUE(found);
+    EXPECT_GE(inliers, 50);
+    EXPECT_LT((found->t() - T_world_camera.t()).norm(), 0.006);
+    EXPECT_LT(rotvecFromRotation(found->R().transpose() * T_world_camera.R()).norm(), 0.3 * M_PI / 180);
+  }
+}
+
+// Where the map is not in view (another wall of the same kind; a blank frame) there is no pose.
+TEST(Relocaliser, NoPoseWhereTheMapIsNotInView) {
+  const CameraModel camera = pinhole();
+  const cv::Mat texture = wallTexture();
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  const WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
+  int inliers = -1;
+  EXPECT_FALSE(relocaliser.relocalise(renderWall(wallTexture(4), camera, SE3()), camera, map.p_world,
+                                      map.descriptors, &inliers));
+  EXPECT_EQ(inliers, 0);
+  EXPECT_FALSE(relocaliser.relocalise(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), camera, map.p_world,
+                                      map.descriptors, &inliers));
+}
+
+}  // namespace
+}  // namespace slamcmp
