@@ -174,7 +174,8 @@ nlohmann::json runSequence(const RunRequest& request) {
                                 "(options inverse_depth.rho0); scale = ground-truth metres per unit";
     // One Sim(3) fits the run only if the run has one scale: a lost filter is never restarted.
     extra["after_loss"] = "one map at one scale: lost frames are posed again only once features mapped "
-                          "while the run was posed are matched again (relocalised), never from a new map";
+                          "while the run was posed are matched again (relocalisation.*: their descriptors "
+                          "matched in the frame, PnP RANSAC), never from a new map";
   }
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
