@@ -31,13 +31,8 @@ cv::Mat wallTexture(unsigned seed = 3) {
 }
 
 CameraModel pinhole() {
-  CameraModel camera;
-  camera.width = 640;
-  camera.height = 480;
-  camera.fx = camera.fy = 520;
-  camera.cx = 319.5;
-  camera.cy = 239.5;
-  return camera;
+  return CameraModel::fromOpenCV((cv::Mat_<double>(3, 3) << 520, 0, 319.5, 0, 520, 239.5, 0, 0, 1),
+                                 cv::Mat::zeros(1, 5, CV_64F), cv::Size(640, 480));
 }
 
 cv::Mat renderWall(const cv::Mat& texture, const CameraModel& camera, const SE3& T_world_camera) {
