@@ -178,14 +178,15 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
 
 FrameResult MonoslamTracker::track(const Frame& frame) {
   FrameResult result;
-  // A lost board-free run: its map is all that can anchor it again.
+  // Lost frames relocalised against the map (a board-free run's only anchor; with a board, before
+  // it is seen again when relocalisation.use is on), whose features meanwhile are kept.
+  const bool relocalising = lost_ && slam_.relocalises();
   bool relocalised = false;
-  if (lost_ && slam_.relocalises() && init_ == InitSource::None &&
-      frames_lost_ % options_.filter.relocalisation.interval == 0) {
+  if (relocalising && frames_lost_ % options_.filter.relocalisation.interval == 0) {
     const StageTimer timer(&result.stages, "features");  // the map's features searched in the whole frame
     relocalised = relocalise(frame, &result);
   }
-  slam_.protectFeaturesBelow(lost_ && !relocalised ? trusted_id_limit_ : 0);
+  slam_.protectFeaturesBelow(relocalising && !relocalised ? trusted_id_limit_ : 0);
   result = trackFrame(frame, relocalised, std::move(result));
   lost_ = ever_started_ && !result.T_world_camera;
   frames_lost_ = lost_ ? frames_lost_ + 1 : 0;

@@ -35,8 +35,8 @@ class MonoslamTracker : public Tracker {
   // --init none: the velocity prior (StartOptions::board_free_*) once the first interval dt is known.
   void setFirstMotionPrior(double dt);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can
-  // A board-free run's lost camera found again against the map mapped while it was posed; the
-  // filter then runs from that pose. False when it was not (*result untouched).
+  // The lost camera found again against the map mapped while it was posed (relocalisation.*);
+  // the filter then runs from that pose. False when it was not (*result untouched).
   bool relocalise(const Frame& frame, FrameResult* result);
   // One frame of the filter (track() after any relocalisation; `result` holds its stages so far).
   FrameResult trackFrame(const Frame& frame, bool relocalised, FrameResult result);
