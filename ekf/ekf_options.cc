@@ -128,6 +128,7 @@ void RelocalisationOptions::check() const {
   require(frame_corners >= 10 && frame_corners <= 100000, "frame_corners", "must be in [10, 100000]");
   require(ratio > 0 && ratio <= 1, "ratio", "must be in (0, 1]");
   require(min_inliers >= 4 && min_inliers <= 10000, "min_inliers", "must be in [4, 10000] (a pose needs four points)");
+  require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, "min_inlier_ratio", "must be in [0, 1]");
   require(max_error_px > 0 && max_error_px <= 100, "max_error_px", "must be in (0, 100] pixels");
   require(position_sigma > 0 && position_sigma < 100, "position_sigma", "must be in (0, 100)");
   require(orientation_sigma > 0 && orientation_sigma < 1, "orientation_sigma", "must be in (0, 1)");

@@ -246,6 +246,7 @@ struct RelocalisationOptions {
   int frame_corners = 1000;      // corners of the frame described and matched
   double ratio = 0.8;            // a match's Hamming distance under this times the second best's (Lowe)
   int min_inliers = 6;           // PnP RANSAC inliers to accept a pose (a map of 12 features)
+  double min_inlier_ratio = 0.3; // and at least this fraction of the matches
   double max_error_px = 3.0;     // PnP RANSAC inlier threshold, pixels
   double position_sigma = 0.05;  // units, the relocalised camera position's std
   double orientation_sigma = 0.02;  // per quaternion component
@@ -256,6 +257,7 @@ struct RelocalisationOptions {
     v("frame_corners", frame_corners, "strongest corners of the frame described and matched to the map");
     v("ratio", ratio, "Lowe's ratio test for the descriptor matches");
     v("min_inliers", min_inliers, "PnP RANSAC inliers needed to accept a pose");
+    v("min_inlier_ratio", min_inlier_ratio, "fraction of the descriptor matches the pose must explain");
     v("max_error_px", max_error_px, "PnP RANSAC inlier threshold, pixels");
     v("position_sigma", position_sigma, "units (metres with a board), std of the relocalised camera position");
     v("orientation_sigma", orientation_sigma, "std of each quaternion component of the relocalised camera");

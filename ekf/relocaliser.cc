@@ -84,14 +84,20 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
   const double focal = 0.5 * (camera.fx + camera.fy);
   if (!cv::solvePnPRansac(object, image, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false, 300,
                           static_cast<float>(options_.max_error_px / focal), 0.999, kept) ||
-      static_cast<int>(kept.size()) < options_.min_inliers)
+      static_cast<int>(kept.size()) < options_.min_inliers ||
+      static_cast<double>(kept.size()) < options_.min_inlier_ratio * static_cast<double>(object.size()))
     return std::nullopt;
-  *inliers = static_cast<int>(kept.size());
   Vec3 rotvec, t;
   cv::cv2eigen(rvec, rotvec);
   cv::cv2eigen(tvec, t);
   if (!rotvec.allFinite() || !t.allFinite()) return std::nullopt;
-  return SE3::fromRotvec(rotvec, t).inverse();  // solvePnP gives T_camera_world
+  const SE3 T_camera_world = SE3::fromRotvec(rotvec, t);
+  // The points in front of the camera: a projection cannot tell a point behind the camera from
+  // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
+  for (int k : kept)
+    if (!((T_camera_world * Vec3(object[k].x, object[k].y, object[k].z)).z() > 0)) return std::nullopt;
+  *inliers = static_cast<int>(kept.size());
+  return T_camera_world.inverse();
 }
 
 }  // namespace slamcmp

@@ -111,5 +111,27 @@ TEST(Relocaliser, NoPoseWhereTheMapIsNotInView) {
                                       map.descriptors, &inliers));
 }
 
+// Points mirrored through the camera centre (p -> -p) project to the same pixels from behind it.
+// Spread in depth along their rays (any depth fits the view they were seen in), no pose with them
+// in front fits them: the best, upside down, fits the 6 of 119 near the image's middle row, too
+// few of the matches (min_inlier_ratio). (A pose that puts its points behind the camera, which
+// OpenCV's refinement can reach, is refused too: tum_fr1_rpy, RealTumFr1RpyBoardFree.)
+TEST(Relocaliser, RefusesMirroredPoints) {
+  const CameraModel camera = pinhole();
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  const cv::Mat view = renderWall(wallTexture(), camera, SE3());
+  WallMap map = mapFromFirstView(relocaliser, camera, view);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> depth(0.5, 2.0);
+  for (Vec3& p : map.p_world) p *= depth(rng);
+  int inliers = 0;
+  const std::optional<SE3> found = relocaliser.relocalise(view, camera, map.p_world, map.descriptors, &inliers);
+  ASSERT_TRUE(found);
+  EXPECT_LT(found->t().norm(), 1e-3);
+  for (Vec3& p : map.p_world) p = -p;
+  EXPECT_FALSE(relocaliser.relocalise(view, camera, map.p_world, map.descriptors, &inliers));
+  EXPECT_EQ(inliers, 0);
+}
+
 }  // namespace
 }  // namespace slamcmp
