@@ -123,7 +123,6 @@ void OnePointRansacOptions::check() const {
 }
 
 void RelocalisationOptions::check() const {
-  requireUse(use);
   require(interval >= 1 && interval <= 1000, "interval", "must be in [1, 1000] frames");
   require(frame_corners >= 10 && frame_corners <= 100000, "frame_corners", "must be in [10, 100000]");
   require(ratio > 0 && ratio <= 1, "ratio", "must be in (0, 1]");

@@ -238,11 +238,11 @@ struct OnePointRansacOptions {
 // feature keeps the ORB descriptor (Rublee et al. 2011) of its first view, and while the frames are
 // lost the frame's corners (Shi-Tomasi, as the features were chosen) are described alike and
 // matched to the map's, and the camera is the PnP RANSAC pose of the matched points (the
-// relocalisation of PTAM and ORB-SLAM). The filter then resumes from that pose with the map it had
-// while posed.
+// relocalisation of PTAM and ORB-SLAM); the filter resumes from that pose. (A board-started run
+// is anchored by the board.)
 struct RelocalisationOptions {
-  std::string use = "auto";      // auto (on with --init none) | on | off
-  int interval = 3;              // frames between attempts while lost
+  bool enabled = true;           // with --init none
+  int interval = 1;              // frames between attempts while lost (a lost frame has nothing else to do)
   int frame_corners = 1000;      // corners of the frame described and matched
   double ratio = 0.8;            // a match's Hamming distance under this times the second best's (Lowe)
   int min_inliers = 6;           // PnP RANSAC inliers to accept a pose (a map of 12 features)
@@ -252,7 +252,7 @@ struct RelocalisationOptions {
   double orientation_sigma = 0.02;  // per quaternion component
   template <class V>
   void visit(V& v) {
-    v("use", use, "auto (on with --init none) | on | off: relocalise lost frames against the map (ORB + PnP RANSAC)");
+    v("enabled", enabled, "--init none: relocalise lost frames against the map (ORB descriptors, PnP RANSAC)");
     v("interval", interval, "frames between relocalisation attempts while lost");
     v("frame_corners", frame_corners, "strongest corners of the frame described and matched to the map");
     v("ratio", ratio, "Lowe's ratio test for the descriptor matches");

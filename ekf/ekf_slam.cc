@@ -28,13 +28,13 @@ Mat3 rotationOf(const Vec4& q) { return Quat(q(0), q(1), q(2), q(3)).normalized(
 
 }  // namespace
 
-EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free)
+EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free,
+                 const RelocalisationOptions* relocalisation)
     : camera_(camera),
       options_(options),
       inverse_depth_(usesOption(options.inverse_depth.use, board_free)),
       ransac_(usesOption(options.ransac.use, board_free)) {
-  if (usesOption(options.relocalisation.use, board_free))
-    relocaliser_ = std::make_unique<Relocaliser>(options.relocalisation);
+  if (relocalisation && relocalisation->enabled) relocaliser_ = std::make_unique<Relocaliser>(*relocalisation);
 }
 
 void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
@@ -212,7 +212,7 @@ PoseCovariance EkfSlam::poseCovariance() const {
 
 std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* inliers) const {
   *inliers = 0;
-  if (!relocaliser_) return std::nullopt;
+  if (!relocaliser_ || !state_.x().allFinite() || !state_.P().allFinite()) return std::nullopt;
   std::vector<Vec3> p_world;
   cv::Mat descriptors;
   for (const MapFeature& f : features_) {
@@ -222,7 +222,9 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
       const double rho = state_.x()(f.offset + 5), var = state_.P()(f.offset + 5, f.offset + 5);
       if (!(rho > 2 * std::sqrt(std::max(0.0, var)))) continue;
     }
-    p_world.push_back(featurePoint(state_.x(), f));
+    const Vec3 p = featurePoint(state_.x(), f);
+    if (!p.allFinite()) continue;
+    p_world.push_back(p);
     descriptors.push_back(f.descriptor);
   }
   return relocaliser_->relocalise(grey, camera_, p_world, descriptors, inliers);
@@ -230,12 +232,11 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {
   for (size_t i = features_.size(); i-- > 0;)
-    if (features_[i].id >= below_id && !features_[i].known) removeFeature(i);
+    if (features_[i].id >= below_id) removeFeature(i);
   for (MapFeature& f : features_) f.attempts = f.successes;
-  const Quat q = T_world_camera.quat();
   Eigen::VectorXd& x = state_.x();
   x.segment<3>(EkfState::kR) = T_world_camera.t();
-  x.segment<4>(EkfState::kQ) << q.w(), q.x(), q.y(), q.z();
+  x.segment<4>(EkfState::kQ) = quatVector(T_world_camera.quat());
   x.segment<6>(EkfState::kV).setZero();
   Eigen::MatrixXd& P = state_.P();
   P.topRows<EkfState::kCameraDim>().setZero();

@@ -35,7 +35,6 @@ struct EkfSlamOptions {
   ReportingOptions reporting;
   InverseDepthOptions inverse_depth;  // board-free start (issue 18)
   OnePointRansacOptions ransac;
-  RelocalisationOptions relocalisation;
 };
 
 template <class V>
@@ -48,14 +47,15 @@ void visitFilterOptions(V& v, EkfSlamOptions& o) {
   v("reporting", o.reporting, "when frames are reported lost instead of extrapolated");
   v("inverse_depth", o.inverse_depth, "features in inverse depth (Civera 2008; board-free start)");
   v("ransac", o.ransac, "1-point RANSAC update (Civera 2010; board-free start)");
-  v("relocalisation", o.relocalisation, "lost frames relocalised against the map (board-free start)");
 }
 
 class EkfSlam {
  public:
   // board_free: the map starts from nothing (`--init none`), which turns the "auto" of
-  // inverse_depth.use and ransac.use on.
-  EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free = false);
+  // inverse_depth.use and ransac.use on. relocalisation (enabled): features keep descriptors and
+  // relocalise() can find a lost camera again.
+  EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free = false,
+          const RelocalisationOptions* relocalisation = nullptr);
 
   // The camera alone at T_world_camera with covariance P_camera (13x13); the map is cleared.
   void reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera);
@@ -75,10 +75,11 @@ class EkfSlam {
   // worst case).
   void updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear = {});
 
-  // Whether features keep descriptors and lost frames can be relocalised (relocalisation.use).
+  // Whether features keep descriptors and lost frames can be relocalised.
   bool relocalises() const { return relocaliser_ != nullptr; }
-  // The camera's pose found again from the map's features with ids under `below_id` (those mapped
-  // while the frames were posed) matched in `grey`; nullopt if too few agree. *inliers: how many did.
+  // T_world_camera found again from the map's features with ids under `below_id` (those mapped
+  // while the frames were posed) matched in `grey`; nullopt if too few agree, or the map is not
+  // finite. *inliers: how many agreed.
   std::optional<SE3> relocalise(const cv::Mat& grey, int below_id, int* inliers) const;
   // The camera moved to T_world_camera with covariance P_camera, at rest, uncorrelated with the
   // map, which keeps its features under `below_id` (the others were mapped from a lost pose) with

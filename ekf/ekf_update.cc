@@ -1,5 +1,7 @@
 #include "ekf/ekf_update.h"
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 
 namespace slamcmp {
@@ -108,6 +110,7 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                     const Relinearise& relinearise, int max_iterations, double tolerance) {
   if (observations->empty()) return true;
+  max_iterations = std::max(max_iterations, 1);
   const int m = static_cast<int>(observations->size());
   EkfState iterate = state;  // x_i (P stays the prior's)
   Eigen::MatrixXd W, S;
@@ -133,7 +136,7 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
   for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
-  relinearise(state, observations);  // the camera moved by a Gauss-Newton step: still in front of the points
+  relinearise(state, observations);  // the update's residuals (h where it can be predicted)
   return true;
 }
 

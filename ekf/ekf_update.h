@@ -44,8 +44,8 @@ using Relinearise = std::function<bool(const EkfState& state, std::vector<PointO
 // until the camera moves by less than `tolerance` (metres, quaternion units) or after
 // `max_iterations`; P from the last K_i and H_i. One iteration is batchUpdate. It matters where the
 // prior is far from the measurements compared with their noise (a board found again after a drift:
-// one linearisation there lands centimetres off). `observations` leave with h at the updated state,
-// so z - h are the update's residuals. Returns false, leaving the state untouched, when S is not
+// one linearisation there lands centimetres off). `observations` leave with h at the updated state
+// (where it can be predicted), so z - h are the update's residuals. max_iterations below 1 is 1. Returns false, leaving the state untouched, when S is not
 // positive definite or an observation cannot be predicted at an iterate.
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                     const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);

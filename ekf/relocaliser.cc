@@ -34,12 +34,12 @@ float centroidAngleDeg(const cv::Mat& grey, const cv::Point2f& uv) {
 
 Relocaliser::Relocaliser(const RelocalisationOptions& options) : options_(options), orb_(cv::ORB::create()) {}
 
-cv::Mat Relocaliser::describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv) const {
+cv::Mat Relocaliser::describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv_distorted) const {
   // ORB drops keypoints within its patch of the border; the disc above must fit too.
   const float border = kOrbPatch + 1;
   std::vector<cv::KeyPoint> keypoints;
   std::vector<cv::Point2f> kept;
-  for (const cv::Point2f& p : *uv) {
+  for (const cv::Point2f& p : *uv_distorted) {
     if (!(p.x >= border && p.y >= border && p.x < grey.cols - border && p.y < grey.rows - border)) continue;
     keypoints.emplace_back(p, static_cast<float>(kOrbPatch), centroidAngleDeg(grey, p));
     kept.push_back(p);
@@ -47,7 +47,7 @@ cv::Mat Relocaliser::describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* 
   cv::Mat descriptors;
   if (!keypoints.empty()) orb_->compute(grey, keypoints, descriptors);
   if (keypoints.size() != kept.size()) return {};  // ORB kept every one inside its border before
-  uv->swap(kept);
+  uv_distorted->swap(kept);
   return descriptors;
 }
 
@@ -62,30 +62,30 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
                                            int* inliers) const {
   *inliers = 0;
   if (static_cast<int>(p_world.size()) < options_.min_inliers) return std::nullopt;
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(grey, corners, options_.frame_corners, 0.001, 5);
-  const cv::Mat frame_descriptors = describeAll(grey, &corners);
-  if (corners.size() < 2) return std::nullopt;
+  std::vector<cv::Point2f> uv_distorted;
+  cv::goodFeaturesToTrack(grey, uv_distorted, options_.frame_corners, 0.001, 5);
+  const cv::Mat frame_descriptors = describeAll(grey, &uv_distorted);
+  if (frame_descriptors.rows < 2) return std::nullopt;
   std::vector<std::vector<cv::DMatch>> matches;
   cv::BFMatcher(cv::NORM_HAMMING).knnMatch(descriptors, frame_descriptors, matches, 2);
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;  // normalised: the lens's distortion removed
+  std::vector<cv::Point3d> p_world_matched;
+  std::vector<cv::Point2d> xy_normalised;  // the lens's distortion removed
   for (const std::vector<cv::DMatch>& m : matches) {
     if (m.size() < 2 || m[0].distance >= options_.ratio * m[1].distance) continue;
     const Vec3& p = p_world[m[0].queryIdx];
-    const cv::Point2f& uv = corners[m[0].trainIdx];
+    const cv::Point2f& uv = uv_distorted[m[0].trainIdx];
     const Vec2 xy = camera.undistortPixel(Vec2(uv.x, uv.y));
-    object.emplace_back(p.x(), p.y(), p.z());
-    image.emplace_back(xy.x(), xy.y());
+    p_world_matched.emplace_back(p.x(), p.y(), p.z());
+    xy_normalised.emplace_back(xy.x(), xy.y());
   }
-  if (static_cast<int>(object.size()) < options_.min_inliers) return std::nullopt;
+  if (static_cast<int>(p_world_matched.size()) < options_.min_inliers) return std::nullopt;
   cv::Mat rvec, tvec;
   std::vector<int> kept;
   const double focal = 0.5 * (camera.fx + camera.fy);
-  if (!cv::solvePnPRansac(object, image, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false, 300,
+  if (!cv::solvePnPRansac(p_world_matched, xy_normalised, cv::Matx33d::eye(), cv::noArray(), rvec, tvec, false, 300,
                           static_cast<float>(options_.max_error_px / focal), 0.999, kept) ||
       static_cast<int>(kept.size()) < options_.min_inliers ||
-      static_cast<double>(kept.size()) < options_.min_inlier_ratio * static_cast<double>(object.size()))
+      static_cast<double>(kept.size()) < options_.min_inlier_ratio * static_cast<double>(p_world_matched.size()))
     return std::nullopt;
   Vec3 rotvec, t;
   cv::cv2eigen(rvec, rotvec);
@@ -95,7 +95,8 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
   // The points in front of the camera: a projection cannot tell a point behind the camera from
   // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
   for (int k : kept)
-    if (!((T_camera_world * Vec3(object[k].x, object[k].y, object[k].z)).z() > 0)) return std::nullopt;
+    if (!((T_camera_world * Vec3(p_world_matched[k].x, p_world_matched[k].y, p_world_matched[k].z)).z() > 0))
+      return std::nullopt;
   *inliers = static_cast<int>(kept.size());
   return T_camera_world.inverse();
 }

@@ -20,15 +20,16 @@ class Relocaliser {
   // The ORB descriptor (1 x 32 bytes) of the corner at uv, steered by its intensity centroid as
   // ORB's own keypoints are; empty within ORB's 31-pixel patch of the image border.
   cv::Mat describe(const cv::Mat& grey, const Vec2& uv) const;
-  // The camera's pose from the map points p_world (row k of `descriptors` describes point k)
-  // matched in `grey`: nullopt when fewer than min_inliers agree. *inliers: how many did.
+  // T_world_camera from the map points p_world (row k of `descriptors` describes point k) matched
+  // in `grey`: nullopt when too few agree (min_inliers, min_inlier_ratio) or a pose puts them behind
+  // the camera. *inliers: how many agreed.
   std::optional<SE3> relocalise(const cv::Mat& grey, const CameraModel& camera, const std::vector<Vec3>& p_world,
                                 const cv::Mat& descriptors, int* inliers) const;
 
  private:
-  // ORB descriptors of the corners at `uv` (rows of the returned matrix); corners too near the
-  // border are dropped from `uv`.
-  cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv) const;
+  // ORB descriptors of the corners at `uv_distorted` (rows of the returned matrix); corners too
+  // near the border are dropped from it.
+  cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv_distorted) const;
 
   RelocalisationOptions options_;
   cv::Ptr<cv::ORB> orb_;

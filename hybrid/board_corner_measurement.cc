@@ -41,6 +41,8 @@ void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
 
 namespace {
 
+constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
+
 // Sub-pixel refinement of each point with one window for all (half side `half`, pixels).
 void refine(const cv::Mat& grey, int half, std::vector<cv::Point2f>& uv) {
   if (uv.empty()) return;
@@ -67,8 +69,8 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     CornerPrediction& p = pred[i];
     PointMeasurement next;  // the next corner along the row, for the square's size in pixels
     const Vec3 along = corners_world_[i] + Vec3(target_.square_size, 0, 0);
-    if (!predictMeasurement(camera_, state.r(), state.q(), corners_world_[i], &p.h, 0.05) ||
-        !predictMeasurement(camera_, state.r(), state.q(), along, &next, 0.05))
+    if (!predictMeasurement(camera_, state.r(), state.q(), corners_world_[i], &p.h, kMinCornerDepth) ||
+        !predictMeasurement(camera_, state.r(), state.q(), along, &next, kMinCornerDepth))
       continue;
     const Vec2& uv = p.h.uv_distorted;
     p.square_px = (next.uv_distorted - uv).norm();
@@ -238,7 +240,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
 bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) const {
   const Relinearise predict_at = [&](const EkfState& at, std::vector<PointObservation>* observations) {
     for (size_t k = 0; k < observations->size(); ++k)
-      if (!predictMeasurement(camera_, at.r(), at.q(), corners_world_[m->corner_ids[k]], &(*observations)[k].h, 0.05))
+      if (!predictMeasurement(camera_, at.r(), at.q(), corners_world_[m->corner_ids[k]], &(*observations)[k].h, kMinCornerDepth))
         return false;
     return true;
   };

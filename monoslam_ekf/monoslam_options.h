@@ -10,11 +10,13 @@ namespace slamcmp {
 struct MonoslamOptions {
   EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
   StartOptions start;
+  RelocalisationOptions relocalisation;
   ChessboardDetectorOptions board;
   template <class V>
   void visit(V& v) {
     visitFilterOptions(v, filter);
     v("start", start, "first camera state uncertainty");
+    v("relocalisation", relocalisation, "--init none: lost frames relocalised against the map");
     v("board", board, "chessboard detection (initialisation and re-initialisation)");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)

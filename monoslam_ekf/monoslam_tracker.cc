@@ -1,10 +1,12 @@
 #include "monoslam_ekf/monoslam_tracker.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "core/chessboard.h"
 #include "core/error.h"
+#include "core/stage_timer.h"
 #include "geometry/homography_pose.h"
 
 namespace slamcmp {
@@ -36,7 +38,8 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
     : options_(options),
       init_(context.init),
       want_overlay_(context.want_overlay),
-      slam_(context.camera ? *context.camera : CameraModel(), options.filter, context.init == InitSource::None),
+      slam_(context.camera ? *context.camera : CameraModel(), options.filter, context.init == InitSource::None,
+            context.init == InitSource::None ? &options.relocalisation : nullptr),
       reporting_(reportingFor(options, context.init)) {
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
@@ -160,7 +163,7 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
   int inliers = 0;
   const std::optional<SE3> T_world_camera = slam_.relocalise(frame.grey, trusted_id_limit_, &inliers);
   if (!T_world_camera) return false;
-  const RelocalisationOptions& ro = options_.filter.relocalisation;
+  const RelocalisationOptions& ro = options_.relocalisation;
   // The motion after a loss is as unknown as the first one: its prior is set per frame interval
   // once the next frame gives the interval (setFirstMotionPrior).
   Eigen::Matrix<double, 13, 13> P = Eigen::Matrix<double, 13, 13>::Zero();
@@ -178,16 +181,27 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
 
 FrameResult MonoslamTracker::track(const Frame& frame) {
   FrameResult result;
-  // Lost frames relocalised against the map (a board-free run's only anchor; with a board, before
-  // it is seen again when relocalisation.use is on), whose features meanwhile are kept.
+  // A lost board-free run is anchored again only by its map, found again by relocalisation. The
+  // filter runs on meanwhile, its features mapped while posed kept; whatever its own searches do
+  // to them, the relocalisation's PnP check decides.
   const bool relocalising = lost_ && slam_.relocalises();
   bool relocalised = false;
-  if (relocalising && frames_lost_ % options_.filter.relocalisation.interval == 0) {
-    const StageTimer timer(&result.stages, "features");  // the map's features searched in the whole frame
+  double relocalise_ms = -1;
+  if (relocalising && (frames_lost_ - 1) % options_.relocalisation.interval == 0) {  // from the first lost frame
+    const double start = threadCpuMs();
     relocalised = relocalise(frame, &result);
+    relocalise_ms = threadCpuMs() - start;
   }
   slam_.protectFeaturesBelow(relocalising && !relocalised ? trusted_id_limit_ : 0);
   result = trackFrame(frame, relocalised, std::move(result));
+  if (relocalise_ms >= 0) {  // a search of the map's features in the whole frame
+    const auto features = std::find_if(result.stages.begin(), result.stages.end(),
+                                       [](const auto& stage) { return stage.first == "features"; });
+    if (features != result.stages.end())
+      features->second += relocalise_ms;
+    else
+      result.stages.emplace_back("features", relocalise_ms);
+  }
   lost_ = ever_started_ && !result.T_world_camera;
   frames_lost_ = lost_ ? frames_lost_ + 1 : 0;
   return result;
@@ -261,7 +275,8 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
   result.pose_covariance = slam_.poseCovariance();
-  if (result.measured == 0 && frames_unmeasured_ > 0) result.reason = "no feature matched: prediction only";
+  if (result.measured == 0 && frames_unmeasured_ > 0 && !relocalised)
+    result.reason = "no feature matched: prediction only";
   return result;
 }
 

@@ -57,7 +57,7 @@ class MonoslamTracker : public Tracker {
   std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
-  bool unknown_first_motion_ = false;  // --init none, before the second frame
+  bool unknown_first_motion_ = false;  // --init none, before the second frame (or after a relocalisation)
   int trusted_id_limit_ = 0;  // features with smaller ids were mapped while the frames were posed
   int trusted_matched_ = 0;   // of them, matched this frame
   int visible_ = 0;  // map points predicted in the image this frame

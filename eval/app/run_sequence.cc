@@ -173,9 +173,8 @@ nlohmann::json runSequence(const RunRequest& request) {
     extra["scale_convention"] = "arbitrary: world = the first camera, unit = the inverse-depth prior's "
                                 "(options inverse_depth.rho0); scale = ground-truth metres per unit";
     // One Sim(3) fits the run only if the run has one scale: a lost filter is never restarted.
-    extra["after_loss"] = "one map at one scale: lost frames are posed again only once features mapped "
-                          "while the run was posed are matched again (relocalisation.*: their descriptors "
-                          "matched in the frame, PnP RANSAC), never from a new map";
+    extra["after_loss"] = "one map at one scale: lost frames are posed again only once the map made while "
+                          "the run was posed is found again (relocalised), never from a new map";
   }
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
