@@ -93,7 +93,9 @@ RansacResult<typename Estimator::Model> ransac(const Estimator& estimator, const
       if (p_good >= 1.0) {
         needed = 0;
       } else if (p_good > 0) {
-        needed = static_cast<int>(std::ceil(std::log(1 - options.confidence) / std::log(1 - p_good)));
+        // Clamped before the cast: a low inlier ratio can ask for more samples than an int holds.
+        const double samples = std::ceil(std::log(1 - options.confidence) / std::log(1 - p_good));
+        needed = samples < options.max_iterations ? static_cast<int>(samples) : options.max_iterations;
       }
     }
   }
