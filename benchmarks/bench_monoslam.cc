@@ -151,12 +151,13 @@ void BM_BoardCornerUpdate(benchmark::State& bench) {
     observations[k].offset = kKnownPoint;
     observations[k].z = camera.project(truth.inverse() * corners[k]);
   }
-  const Relinearise predict_at = [&](const EkfState& at, std::vector<PointObservation>* o) {
+  const Relinearise predict_at = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) {
     for (size_t k = 0; k < corners.size(); ++k)
-      if (!predictMeasurement(camera, at.r(), at.q(), corners[k], &(*o)[k].h)) return false;
+      if (!predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), corners[k], &(*o)[k].h))
+        return false;
     return true;
   };
-  predict_at(prior, &observations);
+  predict_at(prior.x(), &observations);
   const bool once = bench.range(0) == 1;
   for (auto _ : bench) {
     bench.PauseTiming();

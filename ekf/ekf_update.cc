@@ -112,7 +112,7 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
   if (observations->empty()) return true;
   max_iterations = std::max(max_iterations, 1);
   const int m = static_cast<int>(observations->size());
-  EkfState iterate = state;  // x_i (P stays the prior's)
+  Eigen::VectorXd iterate = state.x();  // x_i (P stays the prior's)
   Eigen::MatrixXd W, S;
   Eigen::VectorXd nu;
   Eigen::LLT<Eigen::MatrixXd> llt;
@@ -120,23 +120,23 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
     if (i > 0 && !relinearise(iterate, observations)) return false;
     gainInnovation(state.P(), *observations, pixel_sigma, &W, &S, &nu);
     // nu_i = z - h(x_i) - H_i (x_0 - x_i)
-    const Eigen::VectorXd dx = state.x() - iterate.x();
+    const Eigen::VectorXd dx = state.x() - iterate;
     for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) -= applyH((*observations)[k], dx);
     llt.compute(S.selfadjointView<Eigen::Lower>());
     if (llt.info() != Eigen::Success) return false;
     const Eigen::VectorXd next = state.x() + W * llt.solve(nu);
-    const double step = (next.head<kPose>() - iterate.x().head<kPose>()).lpNorm<Eigen::Infinity>();
-    iterate.x() = next;
+    const double step = (next.head<kPose>() - iterate.head<kPose>()).lpNorm<Eigen::Infinity>();
+    iterate = next;
     if (step < tolerance) break;
   }
   // P -= K_i S_i K_i^T, as in batchUpdate.
   llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);
-  state.x() = iterate.x();
+  state.x() = iterate;
   Eigen::MatrixXd& P = state.P();
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
   for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
-  relinearise(state, observations);  // the update's residuals (h where it can be predicted)
+  relinearise(state.x(), observations);  // the update's residuals (h where it can be predicted)
   return true;
 }
 

@@ -35,9 +35,9 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
 
-// Re-predicts every observation's h (prediction and Jacobians) at the camera of `state`; false when
-// one cannot be predicted there (behind the camera).
-using Relinearise = std::function<bool(const EkfState& state, std::vector<PointObservation>* observations)>;
+// Re-predicts every observation's h (prediction and Jacobians) at the camera of the state vector x;
+// false when one cannot be predicted there (behind the camera).
+using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<PointObservation>* observations)>;
 
 // The iterated EKF update (Bell and Cathey 1993: Gauss-Newton on the prior and the measurements):
 // x_{i+1} = x_0 + K_i (z - h(x_i) - H_i (x_0 - x_i)), with H_i and K_i = P H_i^T S_i^-1 at x_i,

@@ -238,9 +238,9 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
 }
 
 bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) const {
-  const Relinearise predict_at = [&](const EkfState& at, std::vector<PointObservation>* observations) {
+  const Relinearise predict_at = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* observations) {
     for (size_t k = 0; k < observations->size(); ++k)
-      if (!predictMeasurement(camera_, at.r(), at.q(), corners_world_[m->corner_ids[k]], &(*observations)[k].h, kMinCornerDepth))
+      if (!predictMeasurement(camera_, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), corners_world_[m->corner_ids[k]], &(*observations)[k].h, kMinCornerDepth))
         return false;
     return true;
   };

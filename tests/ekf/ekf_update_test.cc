@@ -132,9 +132,11 @@ struct BoardReturn {
     P.diagonal() << Vec3::Constant(0.1 * 0.1), Vec4::Constant(0.05 * 0.05), Vec3::Constant(1.0), Vec3::Constant(1.0);
     prior.reset(T_world_camera * SE3::fromRotvec(Vec3(0.03, -0.04, 0.02), Vec3(0.04, -0.03, 0.03)), P);
   }
-  bool predict(const EkfState& at, std::vector<PointObservation>* observations) const {
+  bool predict(const Eigen::VectorXd& x, std::vector<PointObservation>* observations) const {
     for (size_t k = 0; k < corners.size(); ++k)
-      if (!predictMeasurement(camera, at.r(), at.q(), corners[k], &(*observations)[k].h)) return false;
+      if (!predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), corners[k],
+                              &(*observations)[k].h))
+        return false;
     return true;
   }
   std::vector<PointObservation> observations() const {
@@ -143,7 +145,7 @@ struct BoardReturn {
       out[k].offset = kKnownPoint;
       out[k].z = uv[k];
     }
-    predict(prior, &out);
+    predict(prior.x(), &out);
     return out;
   }
   // The board's maximum-likelihood pose (OpenCV's iterative PnP, Levenberg-Marquardt).
@@ -167,7 +169,7 @@ struct BoardReturn {
 
 TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
   const BoardReturn b;
-  const auto relinearise = [&](const EkfState& at, std::vector<PointObservation>* o) { return b.predict(at, o); };
+  const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
   EkfState batch = b.prior, iterated = b.prior;
   ASSERT_TRUE(batchUpdate(batch, b.observations(), 0.05));
   std::vector<PointObservation> observations = b.observations();
@@ -181,7 +183,7 @@ TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
 // the observations leave with the residuals of that solution.
 TEST(EkfUpdate, IteratedUpdateReachesThePnpSolutionFromAFarPrior) {
   const BoardReturn b;
-  const auto relinearise = [&](const EkfState& at, std::vector<PointObservation>* o) { return b.predict(at, o); };
+  const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
   const Vec3 pnp = b.pnpPosition();
   ASSERT_LT((pnp - b.T_world_camera.t()).norm(), 3e-3);  // a small board: 0.05 px is about 1 mm
 
