@@ -30,6 +30,7 @@
 #include "geometry/bundle_adjustment.h"
 #include "geometry/pose_graph.h"
 #include "tracking/board_corner_tracker.h"
+#include "tracking/board_presence.h"
 #include "cslam/cslam_tracker.h"
 #include "geometry/essential_eight_point.h"
 #include "cslam/feature_map.h"
@@ -247,8 +248,9 @@ void BM_BoardAbsentTest(benchmark::State& state, bool predicted_in_view) {
 // The region around a predicted board searched by the detector (what replaces the whole image's
 // search while a prediction exists: findCorners with the search allowed, the whole image never)
 // on board_leaves' frames showing no corner of the board, the board predicted where a frame that
-// shows all of it has it: the worst case, the region holding the far wall and nothing found.
-void BM_BoardRegionSearchAbsent(benchmark::State& state) {
+// shows all of it has it: the worst case, the region holding the far wall and nothing found. With
+// and without the presence test before the detector.
+void BM_BoardRegionSearchAbsent(benchmark::State& state, bool presence_test) {
   const StageData* d = dataOrSkip(state, "board_leaves", false);
   if (!d) return;
   if (d->board_absent.empty() || d->board_visible.empty()) {
@@ -257,8 +259,12 @@ void BM_BoardRegionSearchAbsent(benchmark::State& state) {
   }
   BoardCornerTrackerOptions options = cslamOptions().board;
   options.search_interval_when_predicted = 1 << 20;
+  options.presence.enabled = presence_test;
   BoardCornerTracker tracker(d->target, options);
   const SE3& T_predicted = d->T_world_camera[d->board_visible.front()];
+  // The board seen first, as before any prediction in a run (the presence test learns from it).
+  const cv::Mat& seen = d->b->frames[d->board_visible.front()].grey;
+  tracker.find(seen, {}, {}, lkWindow(), cslamOptions().lk_levels, &d->camera);
   size_t i = 0;
   int64_t found = 0;
   for (auto _ : state) {
@@ -269,6 +275,46 @@ void BM_BoardRegionSearchAbsent(benchmark::State& state) {
     i = (i + 1) % d->board_absent.size();
   }
   state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
+}
+
+// The presence test (X-junctions counted) on the whole of board_leaves' frames that show no corner
+// of the board, learnt from the first frame showing all of it: what a whole-image search costs
+// once the board has been seen (it replaces BM_ChessboardDetect/board_leaves/board_absent there).
+void BM_BoardPresenceTest(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "board_leaves", false);
+  if (!d) return;
+  if (d->board_absent.empty() || d->detected.empty()) {
+    state.SkipWithError("board_leaves has no frame without the board, or none with it detected");
+    return;
+  }
+  BoardPresence presence(cslamOptions().board.presence);
+  presence.seen(d->b->frames[d->detected.front()].grey, d->corners.front(),
+                minCornerSpacing(d->target, d->corners.front()));
+  size_t i = 0;
+  int64_t may_hold = 0;
+  for (auto _ : state) {
+    const cv::Mat& grey = d->b->frames[d->board_absent[i]].grey;
+    may_hold += presence.mayHoldBoard(grey, cv::Rect(0, 0, grey.cols, grey.rows), d->target.numCorners());
+    i = (i + 1) % d->board_absent.size();
+  }
+  state.counters["may_hold"] = benchmark::Counter(static_cast<double>(may_hold), benchmark::Counter::kAvgIterations);
+}
+
+// What the presence test learns from each view of the whole board (the board tracker does it in
+// every frame the whole board is found): its corners' response, on tv1's detected boards.
+void BM_BoardPresenceSeen(benchmark::State& state) {
+  const StageData* d = dataOrSkip(state, "tv1");
+  if (!d) return;
+  if (d->detected.empty()) {
+    state.SkipWithError("no board detected on tv1");
+    return;
+  }
+  BoardPresence presence(cslamOptions().board.presence);
+  size_t i = 0;
+  for (auto _ : state) {
+    presence.seen(d->b->frames[d->detected[i]].grey, d->corners[i], minCornerSpacing(d->target, d->corners[i]));
+    i = (i + 1) % d->detected.size();
+  }
 }
 
 // Carrying the board's predicted view one frame on (BoardImageMotion::advance: the frame-to-frame
@@ -612,7 +658,11 @@ const bool registered = [] {
       [](auto& s) { BM_ChessboardDetect(s, "board_leaves", false); }, benchmark::kMillisecond);
   add("BM_BoardAbsentTest/board_leaves/predicted_in_view", [](auto& s) { BM_BoardAbsentTest(s, true); });
   add("BM_BoardAbsentTest/board_leaves/predicted_out_of_view", [](auto& s) { BM_BoardAbsentTest(s, false); });
-  add("BM_BoardRegionSearch/board_leaves/board_absent", [](auto& s) { BM_BoardRegionSearchAbsent(s); });
+  add("BM_BoardRegionSearch/board_leaves/board_absent", [](auto& s) { BM_BoardRegionSearchAbsent(s, true); });
+  add("BM_BoardRegionSearch/board_leaves/board_absent/no_presence_test",
+      [](auto& s) { BM_BoardRegionSearchAbsent(s, false); });
+  add("BM_BoardPresenceTest/board_leaves/board_absent", [](auto& s) { BM_BoardPresenceTest(s); });
+  add("BM_BoardPresenceSeen/tv1", [](auto& s) { BM_BoardPresenceSeen(s); });
   add("BM_BoardImageMotionAdvance/tv1", [](auto& s) { BM_BoardImageMotionAdvance(s); });
   add("BM_BoardReacquire/board_leaves", [](auto& s) { BM_BoardReacquire(s); });
   add("BM_BoardPartialTracking/board_partial", [](auto& s) { BM_BoardPartialTracking(s); });

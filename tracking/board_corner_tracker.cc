@@ -82,7 +82,12 @@ int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
 }  // namespace
 
 BoardCornerTracker::BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options)
-    : target_(target), options_(options) {}
+    : target_(target), options_(options), presence_(options.presence) {}
+
+void BoardCornerTracker::rememberWholeBoard(const cv::Mat& grey, const std::vector<cv::Point2f>& uv) {
+  last_seen_ = uv;
+  presence_.seen(grey, uv, minCornerSpacing(target_, uv));
+}
 
 bool BoardCornerTracker::fullSearchDue(bool allow_search, bool predicted) {
   // Frames are counted whether or not a search was allowed: the first frame allowed after a
@@ -410,6 +415,7 @@ std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& 
 std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey,
                                                            const std::vector<cv::Point2f>& expected,
                                                            const cv::Rect& region) {
+  if (!presence_.mayHoldBoard(grey, region, target_.numCorners())) return std::nullopt;
   std::vector<cv::Point2f> uv;
   if (!detectChessboard(grey(region), target_, &uv, options_.detector)) return std::nullopt;
   for (cv::Point2f& p : uv) p += cv::Point2f(static_cast<float>(region.x), static_cast<float>(region.y));
@@ -419,8 +425,9 @@ std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey,
     });
     chooseSymmetricOrder(target_, uv, all_expected ? expected : last_seen_);
   }
+  rememberWholeBoard(grey, uv);
   BoardCorners c;
-  c.uv = last_seen_ = uv;
+  c.uv = uv;
   c.ids.resize(uv.size());
   for (size_t k = 0; k < uv.size(); ++k) c.ids[k] = static_cast<int>(k);
   c.complete = true;
@@ -451,7 +458,8 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
     for (size_t i = 0; i < uv.size() && all; ++i)
       all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
     if (all && confirm(grey, uv, *camera)) {
-      corners_.uv = last_seen_ = uv;
+      corners_.uv = uv;
+      rememberWholeBoard(grey, uv);
       last_tracked_ = true;
       last_found_ = BoardFound::Tracked;
       return corners_.uv;
@@ -480,7 +488,7 @@ std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
   last_found_ = BoardFound::None;
   const auto accept = [&](BoardCorners c, BoardFound how) {
     corners_ = std::move(c);
-    if (corners_.complete) last_seen_ = corners_.uv;
+    if (corners_.complete) rememberWholeBoard(grey, corners_.uv);
     last_tracked_ = how == BoardFound::Tracked;
     last_found_ = how;
     frames_since_search_ = kNeverSearched;

@@ -17,6 +17,7 @@
 #include "core/camera.h"
 #include "core/chessboard.h"
 #include "core/target.h"
+#include "tracking/board_presence.h"
 
 namespace slamcmp {
 
@@ -44,6 +45,7 @@ struct BoardCornerTrackerOptions {
   bool predicted_search = true;        // findCorners: re-acquire where a predicted pose projects the board
   double max_prediction_error_px = 10; // the predicted corners are aligned within this radius first
   double min_square_contrast = 10;     // grey levels between the white and the black squares
+  BoardPresenceOptions presence;       // the quick test before a search, once the board has been seen
   template <class V>
   void visit(V& v) {
     v("detector", detector, "the full search (core chessboard detector)");
@@ -77,6 +79,7 @@ struct BoardCornerTrackerOptions {
       "predicted corners are first aligned to the strongest corner response within this radius, pixels");
     v("min_square_contrast", min_square_contrast,
       "confirm: the white squares must be this much brighter than the black ones, grey levels");
+    v("presence", presence, "the quick test (X-junctions) before any search for the whole board");
   }
   void check() const;
 };
@@ -139,7 +142,7 @@ class BoardCornerTracker {
   // aligned on the strongest corner responses nearby; empty if too few.
   std::optional<BoardCorners> predictedCorners(const cv::Mat& grey, const CameraModel& camera,
                                                const std::vector<cv::Point2f>& expected) const;
-  // The detector in `region` of the image. `expected` (every corner, or empty): where a symmetric
+  // The detector in `region` of the image, unless the presence test rules the board out there. `expected` (every corner, or empty): where a symmetric
   // board's origin is looked for.
   std::optional<BoardCorners> fullSearch(const cv::Mat& grey, const std::vector<cv::Point2f>& expected,
                                          const cv::Rect& region);
@@ -162,11 +165,15 @@ class BoardCornerTracker {
   bool fullSearchDue(bool allow_search, bool predicted);
   int minCorners() const;
   double refineMarginPx(const BoardCorners& corners) const;
+  // Keeps a view of the whole board: the origin for a symmetric board's numbering, and what the
+  // presence test learns from.
+  void rememberWholeBoard(const cv::Mat& grey, const std::vector<cv::Point2f>& uv);
 
   ChessboardTarget target_;
   BoardCornerTrackerOptions options_;
   BoardCorners corners_;                // last frame's, empty if not seen
   std::vector<cv::Point2f> last_seen_;  // the last whole board found in any frame, empty if none yet
+  BoardPresence presence_;
   // +1, or for a symmetric board whose origin continuity chose the other way round, -1: the sign
   // of the white-minus-black contrast the corner numbering gives.
   double parity_ = 1.0;

@@ -180,6 +180,26 @@ TEST_F(BoardCornerTrackerTv1, PredictedAwayTheWholeImageIsSearchedOnlyNowAndThen
   EXPECT_EQ(searched, (std::vector<int>{0, 3, 6}));
 }
 
+// Once the board has been seen, a whole-image search first counts the frame's X-junctions
+// (tracking/board_presence): the textured frame is ruled out, and the board's next view, with
+// nothing to track or predict it from, is found by the search as before.
+TEST_F(BoardCornerTrackerTv1, AfterTheBoardIsSeenAFrameWithoutItIsRuledOutAndItsReturnFound) {
+  const test::BlobTexture texture(11, (*frames_)[0].grey.size());
+  const cv::Mat no_board = texture.image((*frames_)[0].grey.size());
+  BoardCornerTrackerOptions options;
+  options.search_interval_when_lost = 1;
+  BoardCornerTracker tracker(*target_, options);
+  ASSERT_TRUE(tracker.findCorners((*frames_)[0].grey, {}, {}, kWindow, kLevels, *camera_, nullptr, true));
+  EXPECT_FALSE(tracker.findCorners(no_board, {}, {}, kWindow, kLevels, *camera_, nullptr, true));
+  EXPECT_TRUE(tracker.lastSearchedWholeImage());
+  const PosedFrame& back = (*frames_)[4];
+  const auto corners = tracker.findCorners(back.grey, {}, {}, kWindow, kLevels, *camera_, nullptr, true);
+  ASSERT_TRUE(corners.has_value());
+  EXPECT_EQ(tracker.lastFound(), BoardFound::Searched);
+  ASSERT_TRUE(corners->complete);
+  EXPECT_LT(rmsToTruth(corners->uv, back.T_world_camera), 0.3);
+}
+
 // findCorners, the path cslam takes, on roll_distortion's first frames (a strongly distorting
 // lens, the board rolling): after the full search on frame 0, every frame's corners are tracked
 // and confirmed, never searched again, within 0.3 px RMS of the truth. (The confirmation's square

@@ -1,0 +1,59 @@
+#pragma once
+// A quick test of whether an image region may hold the whole chessboard, run before the detector
+// (which costs 100 to 350 ms on a textured frame with no board, most of it grouping the texture's
+// quads). A board's inner corners are X-junctions: the ChESS response (Bennett & Lasenby, "ChESS -
+// Quick and robust detection of chess-board features", CVIU 2014) is strong there and weak on
+// edges, blobs and the corners of isolated shapes. The response is learnt from the board's last
+// view (its median over the board's corners), so contrast, lens blur and the squares' size in the
+// image set the bar, not a constant.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace slamcmp {
+
+struct BoardPresenceOptions {
+  bool enabled = true;
+  // A pixel is an X-junction when its response (a local maximum) reaches this fraction of the
+  // board's median corner response when last seen.
+  double response_fraction = 0.4;
+  // The region may hold the board when it has at least this fraction of the board's corner count
+  // of X-junctions.
+  double min_corner_fraction = 0.6;
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled,
+      "before a search for the whole board, count the X-junctions (ChESS response) and skip the search where "
+      "there are too few for the board (only once the board has been seen)");
+    v("response_fraction", response_fraction,
+      "an X-junction responds at least this fraction of the board's median corner response in its last view");
+    v("min_corner_fraction", min_corner_fraction,
+      "a region is searched when it has at least this fraction of the board's corner count of X-junctions");
+  }
+  void check() const;
+};
+
+class BoardPresence {
+ public:
+  explicit BoardPresence(const BoardPresenceOptions& options) : options_(options) {}
+
+  // Learns the board's corner response from a view of its corners `uv` (pixels of `grey`),
+  // `spacing` (pixels) apart at the closest.
+  void seen(const cv::Mat& grey, const std::vector<cv::Point2f>& uv, double spacing);
+  // False when `region` of `grey` has too few X-junctions for `num_corners` board corners; true
+  // when it may hold them, or when nothing has been learnt yet (or the test is off).
+  bool mayHoldBoard(const cv::Mat& grey, const cv::Rect& region, int num_corners) const;
+  bool learnt() const { return reference_response_ > 0; }
+
+ private:
+  BoardPresenceOptions options_;
+  int radius_ = 5;                   // the ring's radius, pixels: within a square of the last view
+  double reference_response_ = -1;   // five times the median corner response in the last view, -1 before any
+};
+
+// The ChESS response at (x, y) with 16 samples on a ring of `radius` pixels: strong (positive)
+// at an X-junction, negative or small on an edge or a blob. (x, y) at least radius + 1 from the
+// border.
+double chessResponse(const cv::Mat& grey, int x, int y, int radius);
+
+}  // namespace slamcmp
