@@ -11,6 +11,7 @@ void BoardOdometryFusionOptions::check() const {
   if (!(motion_noise_scale > 0)) throw OptionError("motion_noise_scale", "must be positive");
   if (!(max_mahalanobis2 > 0)) throw OptionError("max_mahalanobis2", "must be positive");
   if (!(fast_rotation_deg > 0)) throw OptionError("fast_rotation_deg", "must be positive");
+  if (!(max_motion_residual_px > 0)) throw OptionError("max_motion_residual_px", "must be positive");
 }
 
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,

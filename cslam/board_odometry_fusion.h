@@ -27,6 +27,12 @@ struct BoardOdometryFusionOptions {
   // second seed from 0.41 to 0.34 mm ATE (partial-board frames 0.50 -> 0.39) and wall_turn's
   // return from 0.99 to 0.78 of the settled error; tv1..tv4 within 0.03 mm; 0.05 the same.
   double motion_scale_sigma = 0.02;
+  // A point of the features' motion that either frame's pose leaves further off than this (and
+  // than 3 times the median) is dropped and the motion refitted: residuals are 0.05-0.15 px on
+  // the presets, a feature tracked astray 0.5-5 px. board_leaves (seeds 1, 2, 3), ATE 0.76 ->
+  // 0.75, 0.67 -> 0.64, 1.16 -> 0.92 mm, its half-board frames 0.97 -> 0.31, 1.17 -> 0.77, 0.98
+  // -> 0.97 mm; tv1..tv4 the same or better; 0.3 about the same.
+  double max_motion_residual_px = 0.5;
   // A gross-error gate, far beyond chi2(6) (22.5 is its 99.9 %): tighter gates fire on the far
   // frames of tv3 and tv4, where the board's own noise grows, and cost 15 to 25 % of ATE.
   double max_mahalanobis2 = 100;  // board against prediction beyond this: prediction inflated
@@ -41,6 +47,9 @@ struct BoardOdometryFusionOptions {
       "the motion's covariance grows by 1 + (its rotation / this)^2 (features drift in fast turns), degrees");
     v("motion_scale_sigma", motion_scale_sigma,
       "relative uncertainty of the map's scale: the motion's translation is uncertain by this fraction along itself");
+    v("max_motion_residual_px", max_motion_residual_px,
+      "a map point the motion's pose in either frame misses by more than this (and 3 times the median) is dropped "
+      "and the motion refitted, pixels");
     v("max_mahalanobis2", max_mahalanobis2,
       "squared Mahalanobis distance between board pose and prediction beyond which the prediction's covariance "
       "is inflated until they agree");

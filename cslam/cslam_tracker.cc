@@ -35,6 +35,9 @@ constexpr int kMaxFramesPredicted = 5;
 // The fusion's motion is measured on the thesis's map when it holds this many of the tracked
 // features, else on the refined map.
 constexpr int kMinThesisMotionPoints = 30;
+// A point of the features' motion is dropped beyond this many times the median residual (and
+// fusion.max_motion_residual_px), as a board corner is (tracking/board_corner_tracker.cc).
+constexpr double kMaxMotionResidualOverMedian = 3.0;
 // A point the refined map placed with too little parallax counts with this many times a feature's
 // standard deviation in a frame's pose.
 constexpr double kBarelyTriangulatedSigmaFactor = 3.0;
@@ -241,8 +244,7 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
     }
     const Common& used = static_cast<int>(thesis.p_world.size()) >= kMinThesisMotionPoints || !window_ ? thesis : refined;
     if (static_cast<int>(used.p_world.size()) >= options_.min_scale_points) {
-      motion = MapMotion{mapPose(prev.T_world_camera, used.p_world, used.xy_prev),
-                         mapPose(board.T_world_camera, used.p_world, used.xy_now)};
+      motion = mapMotion(prev.T_world_camera, board.T_world_camera, used.p_world, used.xy_prev, used.xy_now);
       result->measured += static_cast<int>(used.p_world.size());
     }
   }
@@ -279,6 +281,40 @@ PoseWithCovariance CslamTracker::mapPose(const SE3& T_world_start, const std::ve
   const auto refined = refinePose(T_world_start.inverse(), p_world, xy_normalised, focal_px_, options_.map_refinement);
   return poseWithCovariance(refined.T_camera_world, p_world, xy_normalised, focal_px_, refined.rms_px,
                             options_.fusion.min_pixel_sigma);
+}
+
+MapMotion CslamTracker::mapMotion(const SE3& T_world_previous, const SE3& T_world_current,
+                                  const std::vector<Vec3>& p_world, const std::vector<Vec2>& xy_previous,
+                                  const std::vector<Vec2>& xy_current) const {
+  MapMotion motion{mapPose(T_world_previous, p_world, xy_previous), mapPose(T_world_current, p_world, xy_current)};
+  // Huber's weights bound a stray point's pull, but not enough: one 5 px point among a hundred, or
+  // a few features sliding along the image in a fast pan, moved the motion by 1-3 mm along what a
+  // narrow view leaves loose (a sideways step against a turn) in board_leaves' pan.
+  const std::vector<double> previous =
+      reprojectionErrorsPx(motion.previous.T_camera_world, p_world, xy_previous, focal_px_);
+  const std::vector<double> current = reprojectionErrorsPx(motion.current.T_camera_world, p_world, xy_current, focal_px_);
+  const auto limit = [&](const std::vector<double>& errors) {
+    return std::max(options_.fusion.max_motion_residual_px, kMaxMotionResidualOverMedian * median(errors));
+  };
+  const double limit_previous = limit(previous), limit_current = limit(current);
+  std::vector<Vec3> kept_world;
+  std::vector<Vec2> kept_previous, kept_current;
+  for (size_t k = 0; k < p_world.size(); ++k) {
+    if (!(previous[k] <= limit_previous && current[k] <= limit_current)) continue;
+    kept_world.push_back(p_world[k]);
+    kept_previous.push_back(xy_previous[k]);
+    kept_current.push_back(xy_current[k]);
+  }
+  if (kept_world.size() == p_world.size() || static_cast<int>(kept_world.size()) < options_.min_scale_points)
+    return motion;
+  // The poses refitted; their covariances stay those of the fit to every point, against which
+  // fusion.motion_noise_scale was measured (the refit's own, from its smaller residuals, made the
+  // fused pose follow the features more and held it off the board after wall_turn's return: its
+  // 30 frames 0.98 -> 1.48 times the settled error).
+  for (auto [pose, xy] : {std::make_pair(&motion.previous, &kept_previous), std::make_pair(&motion.current, &kept_current)})
+    pose->T_camera_world =
+        refinePose(pose->T_camera_world, kept_world, *xy, focal_px_, options_.map_refinement).T_camera_world;
+  return motion;
 }
 
 void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<Vec2>* xy) {

@@ -146,6 +146,11 @@ class CslamTracker : public Tracker {
   // covariance.
   PoseWithCovariance mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
                              const std::vector<Vec2>& xy_normalised) const;
+  // The features' motion: their poses in the previous frame and this one (refined from the given
+  // poses) against the same map points, refitted without the points either pose leaves beyond
+  // fusion.max_motion_residual_px (and 3 times the median): features tracked astray.
+  MapMotion mapMotion(const SE3& T_world_previous, const SE3& T_world_current, const std::vector<Vec3>& p_world,
+                      const std::vector<Vec2>& xy_previous, const std::vector<Vec2>& xy_current) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
   // Combined mode's refined map: whether this posed frame becomes a keyframe (if so, map points no
   // longer tracked are looked for first, while few are tracked).

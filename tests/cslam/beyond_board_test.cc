@@ -172,7 +172,9 @@ TEST(CslamBeyondBoard, PartialBoardAsAccurateAsTheWholeBoard) {
 // board_leaves' first 210 frames: the pan away (from frame ~88), 8 s without the board, the pan
 // back. The gap is posed throughout within 1 % of the path or 5 mm (measured: a fifth of that),
 // the board is re-acquired in the frame it is wholly back, and the 30 frames from there are as
-// accurate as the board frames well inside its view (target 1.2; measured 0.6).
+// accurate as the board frames well inside its view (target 1.2; measured 0.6). The pan's frames
+// with half the board or more are as accurate as those with all of it (target 1.3, held to 1.0
+// here; measured 0.54; 1.26 before features tracked astray were dropped from the motion).
 TEST(CslamBeyondBoard, BoardLeavesGapReturnAndReanchoring) {
   TempDir dir;
   const std::vector<FrameRecord> records = run(render(dir, "board_leaves", 210));
@@ -186,6 +188,14 @@ TEST(CslamBeyondBoard, BoardLeavesGapReturnAndReanchoring) {
   }
   EXPECT_GT(gap_frames, 60);
   expectReacquiredWithoutLag(records, 1.2);
+  std::vector<double> partial, whole;
+  for (const FrameRecord& r : records) {
+    if (!r.error) continue;
+    if (2 * r.corners_in_view >= 54 && r.corners_in_view < 54) partial.push_back(*r.error);
+    if (r.corners_in_view == 54) whole.push_back(*r.error);
+  }
+  ASSERT_GE(partial.size(), 8u);
+  EXPECT_LT(rms(partial), 1.0 * rms(whole)) << rms(partial) << " m against " << rms(whole);
 }
 
 // wall_turn's first 232 frames: a 90-degree turn to the right-hand wall (frames 60-90), 9 s along
