@@ -54,7 +54,11 @@ void refine(const cv::Mat& grey, int half, std::vector<cv::Point2f>& uv) {
 
 BoardCornerMeasurer::BoardCornerMeasurer(const CameraModel& camera, const ChessboardTarget& target,
                                          const BoardCornerMeasurementOptions& options)
-    : camera_(camera), target_(target), corners_world_(target.cornersWorld()), options_(options) {}
+    : camera_(camera),
+      target_(target),
+      corners_world_(target.cornersWorld()),
+      options_(options),
+      detector_(target, options.detector, options.presence) {}
 
 void BoardCornerMeasurer::reset() {
   tracked_ids_.clear();
@@ -172,11 +176,22 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
   }
   out.predicted = predicted;
   pyramid_prev_ = std::move(pyramid);
+  if (static_cast<int>(tracked_ids_.size()) == n) {  // the whole board: what the presence test learns from
+    std::vector<cv::Point2f> whole(n);
+    for (size_t k = 0; k < tracked_ids_.size(); ++k) whole[tracked_ids_[k]] = tracked_uv_[k];
+    detector_.seen(grey, whole);
+  }
   return out;
 }
 
+std::vector<cv::Point2f> BoardCornerMeasurer::searchWholeImage(const cv::Mat& grey) {
+  std::vector<cv::Point2f> found;
+  if (!detector_.detect(grey, &found)) return {};
+  return found;
+}
+
 std::vector<cv::Point2f> BoardCornerMeasurer::searchPredictedRegion(const std::vector<CornerPrediction>& pred,
-                                                                    const cv::Mat& grey, double square_px) const {
+                                                                    const cv::Mat& grey, double square_px) {
   const int n = static_cast<int>(pred.size());
   double half_axis = 0;
   Vec2 lo = Vec2::Constant(1e9), hi = Vec2::Constant(-1e9);
@@ -194,8 +209,7 @@ std::vector<cv::Point2f> BoardCornerMeasurer::searchPredictedRegion(const std::v
                                 cv::Point(static_cast<int>(hi.x() + margin) + 1, static_cast<int>(hi.y() + margin) + 1)) &
                        cv::Rect(0, 0, grey.cols, grey.rows);
   std::vector<cv::Point2f> found;
-  if (roi.area() == 0 || !detectChessboard(grey(roi), target_, &found, options_.detector)) return {};
-  for (cv::Point2f& p : found) p += cv::Point2f(static_cast<float>(roi.x), static_cast<float>(roi.y));
+  if (roi.area() == 0 || !detector_.detect(grey, roi, &found)) return {};
   chooseSymmetricOrder(target_, found, predicted_uv);  // a symmetric board: the predicted origin
   return found;
 }

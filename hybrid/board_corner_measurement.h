@@ -15,6 +15,7 @@
 #include "ekf/ekf_state.h"
 #include "ekf/ekf_update.h"
 #include "ekf/measurement_model.h"
+#include "tracking/board_presence.h"
 
 namespace slamcmp {
 
@@ -32,6 +33,7 @@ struct BoardCornerMeasurementOptions {
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
   int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
   ChessboardDetectorOptions detector;
+  BoardPresenceOptions presence;     // the quick test before each board search, once the board has been seen
   template <class V>
   void visit(V& v) {
     v("pixel_sigma", pixel_sigma, "pixels, measurement noise of a board corner");
@@ -53,6 +55,7 @@ struct BoardCornerMeasurementOptions {
       "per quaternion component, added likewise");
     v("border_px", border_px, "corners predicted closer than this to the image border are not measured, pixels");
     v("detector", detector, "the board search where the filter predicts the board");
+    v("presence", presence, "the quick test (X-junctions) before each search for the whole board");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // the window and the border fit in the image
@@ -85,6 +88,9 @@ class BoardCornerMeasurer {
   bool update(EkfState& state, BoardCornerMeasurement* m) const;
   // Forget the tracked corners (a restart).
   void reset();
+  // The whole board anywhere in `grey` (SPEC order, distorted pixels), empty if none; skipped
+  // where the presence test rules it out (tracking/board_presence).
+  std::vector<cv::Point2f> searchWholeImage(const cv::Mat& grey);
 
  private:
   struct CornerPrediction {
@@ -102,7 +108,7 @@ class BoardCornerMeasurer {
   bool withinGate(const CornerPrediction& p, const Vec2& measured) const;
   // A board detection in the region where the filter predicts the board; empty if none.
   std::vector<cv::Point2f> searchPredictedRegion(const std::vector<CornerPrediction>& pred, const cv::Mat& grey,
-                                                 double square_px) const;
+                                                 double square_px);
   // Each corner's distance to the board plane's homography through all of them, pixels.
   std::vector<double> planeErrorsPx(const std::vector<int>& ids, const std::vector<Vec2>& z) const;
   // Gates each candidate (ids[k] measured at uv[k]) by its innovation, then the set by the board
@@ -117,6 +123,7 @@ class BoardCornerMeasurer {
   std::vector<cv::Mat> pyramid_prev_;
   std::vector<int> tracked_ids_;
   std::vector<cv::Point2f> tracked_uv_;
+  PresenceGatedDetector detector_;  // the board searches; learns from every view of the whole board
 };
 
 }  // namespace slamcmp

@@ -4,6 +4,7 @@
 #include "core/options.h"
 #include "ekf/ekf_options.h"
 #include "ekf/ekf_slam.h"
+#include "tracking/board_presence.h"
 
 namespace slamcmp {
 
@@ -12,12 +13,16 @@ struct MonoslamOptions {
   StartOptions start;
   RelocalisationOptions relocalisation;
   ChessboardDetectorOptions board;
+  BoardPresenceOptions board_presence;
   template <class V>
   void visit(V& v) {
     visitFilterOptions(v, filter);
     v("start", start, "first camera state uncertainty");
     v("relocalisation", relocalisation, "--init none: lost frames relocalised against the map");
     v("board", board, "chessboard detection (initialisation and re-initialisation)");
+    v("board_presence", board_presence,
+      "the quick test (X-junctions) before each search for the board after the first (a lost filter searches every "
+      "frame)");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)
 };

@@ -48,6 +48,7 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
   if (!context.target)
     throw InputError("--target", "the monoslam back-end needs the board (target.yaml): its corners start the map");
   target_ = *context.target;
+  board_detector_.emplace(target_, options_.board, options_.board_presence);
   if (init_ != InitSource::Board) {
     if (!context.T_world_camera_init)
       throw InputError("--init", "groundtruth and manual initialisation need the first camera pose");
@@ -89,7 +90,7 @@ void MonoslamTracker::setFirstMotionPrior(double dt) {
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   if (init_ == InitSource::None) return startWithoutMap(frame, reason);
   std::vector<cv::Point2f> corners;
-  const bool board_seen = detectChessboard(frame.grey, target_, &corners, options_.board);
+  const bool board_seen = board_detector_->detect(frame.grey, &corners);
   // A symmetric board's origin: the one nearest where the given pose, or the last pose before a
   // loss, puts it (else chooseSymmetricOrder's convention).
   const bool use_given_pose = init_ != InitSource::Board && !ever_started_;

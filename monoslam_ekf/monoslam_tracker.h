@@ -47,6 +47,7 @@ class MonoslamTracker : public Tracker {
   InitSource init_;
   bool want_overlay_ = false;
   std::optional<SE3> T_world_camera_init_;
+  std::optional<PresenceGatedDetector> board_detector_;  // with a board (not --init none)
 
   EkfSlam slam_;
   PoseReporting reporting_;

@@ -82,11 +82,11 @@ int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
 }  // namespace
 
 BoardCornerTracker::BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options)
-    : target_(target), options_(options), presence_(options.presence) {}
+    : target_(target), options_(options), detector_(target, options.detector, options.presence) {}
 
 void BoardCornerTracker::rememberWholeBoard(const cv::Mat& grey, const std::vector<cv::Point2f>& uv) {
   last_seen_ = uv;
-  presence_.seen(grey, uv, minCornerSpacing(target_, uv));
+  detector_.seen(grey, uv);
 }
 
 bool BoardCornerTracker::fullSearchDue(bool allow_search, bool predicted) {
@@ -415,10 +415,8 @@ std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& 
 std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey,
                                                            const std::vector<cv::Point2f>& expected,
                                                            const cv::Rect& region) {
-  if (!presence_.mayHoldBoard(grey, region, target_.numCorners())) return std::nullopt;
   std::vector<cv::Point2f> uv;
-  if (!detectChessboard(grey(region), target_, &uv, options_.detector)) return std::nullopt;
-  for (cv::Point2f& p : uv) p += cv::Point2f(static_cast<float>(region.x), static_cast<float>(region.y));
+  if (!detector_.detect(grey, region, &uv)) return std::nullopt;
   if (target_.symmetric()) {
     const bool all_expected = !expected.empty() && std::all_of(expected.begin(), expected.end(), [](const cv::Point2f& p) {
       return std::isfinite(p.x) && std::isfinite(p.y);

@@ -166,14 +166,14 @@ class BoardCornerTracker {
   int minCorners() const;
   double refineMarginPx(const BoardCorners& corners) const;
   // Keeps a view of the whole board: the origin for a symmetric board's numbering, and what the
-  // presence test learns from.
+  // full search's presence test learns from.
   void rememberWholeBoard(const cv::Mat& grey, const std::vector<cv::Point2f>& uv);
 
   ChessboardTarget target_;
   BoardCornerTrackerOptions options_;
   BoardCorners corners_;                // last frame's, empty if not seen
   std::vector<cv::Point2f> last_seen_;  // the last whole board found in any frame, empty if none yet
-  BoardPresence presence_;
+  PresenceGatedDetector detector_;  // the full search
   // +1, or for a symmetric board whose origin continuity chose the other way round, -1: the sign
   // of the white-minus-black contrast the corner numbering gives.
   double parity_ = 1.0;

@@ -103,4 +103,18 @@ bool BoardPresence::mayHoldBoard(const cv::Mat& grey, const cv::Rect& region, in
   return false;
 }
 
+bool PresenceGatedDetector::detect(const cv::Mat& grey, const cv::Rect& region, std::vector<cv::Point2f>* uv) {
+  if (!presence_.mayHoldBoard(grey, region, target_.numCorners())) return false;
+  std::vector<cv::Point2f> found;
+  if (!detectChessboard(grey(region), target_, &found, detector_)) return false;
+  for (cv::Point2f& p : found) p += cv::Point2f(static_cast<float>(region.x), static_cast<float>(region.y));
+  seen(grey, found);
+  *uv = std::move(found);
+  return true;
+}
+
+void PresenceGatedDetector::seen(const cv::Mat& grey, const std::vector<cv::Point2f>& uv) {
+  presence_.seen(grey, uv, minCornerSpacing(target_, uv));
+}
+
 }  // namespace slamcmp

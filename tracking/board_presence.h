@@ -10,6 +10,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/chessboard.h"
+#include "core/target.h"
+
 namespace slamcmp {
 
 struct BoardPresenceOptions {
@@ -49,6 +52,30 @@ class BoardPresence {
   BoardPresenceOptions options_;
   int radius_ = 5;                   // the ring's radius, pixels: within a square of the last view
   double reference_response_ = -1;   // five times the median corner response in the last view, -1 before any
+};
+
+// core's chessboard detector behind the presence test: a region is searched only where it may
+// hold the whole board, once a view of the board has been learnt (every board it finds, and every
+// view of the whole board given to seen()).
+class PresenceGatedDetector {
+ public:
+  PresenceGatedDetector(const ChessboardTarget& target, const ChessboardDetectorOptions& detector,
+                        const BoardPresenceOptions& presence)
+      : target_(target), detector_(detector), presence_(presence) {}
+
+  // The whole board in `region` of `grey`: its corners in the whole image's pixels, SPEC order
+  // (detectChessboard's); false where none was found or the presence test ruled it out.
+  bool detect(const cv::Mat& grey, const cv::Rect& region, std::vector<cv::Point2f>* uv);
+  bool detect(const cv::Mat& grey, std::vector<cv::Point2f>* uv) {
+    return detect(grey, cv::Rect(0, 0, grey.cols, grey.rows), uv);
+  }
+  // A view of the whole board found otherwise (tracked corners): learnt from.
+  void seen(const cv::Mat& grey, const std::vector<cv::Point2f>& uv);
+
+ private:
+  ChessboardTarget target_;
+  ChessboardDetectorOptions detector_;
+  BoardPresence presence_;
 };
 
 // The ChESS response at (x, y) with 16 samples on a ring of `radius` pixels: strong (positive)

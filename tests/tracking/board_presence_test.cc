@@ -136,5 +136,21 @@ TEST_F(BoardPresenceTv1, RulesNothingOutUntilTheBoardIsSeenOrWhenOff) {
   EXPECT_FALSE(learnt().mayHoldBoard(first_, corner, target_.numCorners()));
 }
 
+// The detector behind the test (as the back-ends search): a region is found in whole-image pixels
+// as the detector finds it on the whole frame, a region the test rules out is not searched, and
+// the board's next view is found.
+TEST_F(BoardPresenceTv1, TheGatedDetectorFindsWhatTheDetectorFinds) {
+  PresenceGatedDetector detector(target_, ChessboardDetectorOptions{}, BoardPresenceOptions{});
+  std::vector<cv::Point2f> in_region;
+  ASSERT_TRUE(detector.detect(first_, boardBox(60) & whole(), &in_region));
+  ASSERT_EQ(in_region.size(), corners_.size());
+  for (size_t k = 0; k < corners_.size(); ++k) EXPECT_LT(cv::norm(in_region[k] - corners_[k]), 0.05) << k;
+  std::vector<cv::Point2f> none;
+  EXPECT_FALSE(detector.detect(first_, cv::Rect(0, 0, boardBox(0).x, first_.rows), &none));
+  std::vector<cv::Point2f> later;
+  EXPECT_TRUE(detector.detect(last_, &later));
+  EXPECT_EQ(later.size(), corners_.size());
+}
+
 }  // namespace
 }  // namespace slamcmp
