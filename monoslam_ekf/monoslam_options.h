@@ -21,8 +21,8 @@ struct MonoslamOptions {
     v("relocalisation", relocalisation, "--init none: lost frames relocalised against the map");
     v("board", board, "chessboard detection (initialisation and re-initialisation)");
     v("board_presence", board_presence,
-      "the quick test (X-junctions) before each search for the board after the first (a lost filter searches every "
-      "frame)");
+      "the quick test (X-junctions) before each search for the board once it has been seen (restarts after a "
+      "divergence search every frame)");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)
 };
