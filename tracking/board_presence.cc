@@ -57,9 +57,9 @@ double chessResponse(const cv::Mat& grey, int x, int y, int radius) {
 
 void BoardPresence::seen(const cv::Mat& grey, const std::vector<cv::Point2f>& uv, double spacing) {
   // The ring within a square of the board's corner (a fifth of the spacing), at most ChESS's own 5.
-  radius_ = std::clamp(static_cast<int>(0.2 * spacing), 2, 5);
-  const int border = radius_ + 2;
-  const std::array<ptrdiff_t, 16> ring = ringOffsets(grey.step, radius_);
+  const int radius = std::clamp(static_cast<int>(0.2 * spacing), 2, 5);
+  const int border = radius + 2;
+  const std::array<ptrdiff_t, 16> ring = ringOffsets(grey.step, radius);
   const ptrdiff_t step = static_cast<ptrdiff_t>(grey.step);
   std::vector<double> responses;
   for (const cv::Point2f& c : uv) {
@@ -71,7 +71,9 @@ void BoardPresence::seen(const cv::Mat& grey, const std::vector<cv::Point2f>& uv
       for (int dx = -1; dx <= 1; ++dx) best = std::max(best, response5(grey.ptr<uchar>(y + dy) + x + dx, ring, step));
     responses.push_back(best);
   }
-  if (!responses.empty()) reference_response_ = median(responses);
+  if (responses.empty()) return;
+  radius_ = radius;
+  reference_response_ = median(responses);
 }
 
 bool BoardPresence::mayHoldBoard(const cv::Mat& grey, const cv::Rect& region, int num_corners) const {
