@@ -94,8 +94,9 @@ RansacResult<typename Estimator::Model> ransac(const Estimator& estimator, const
         needed = 0;
       } else if (p_good > 0) {
         // Clamped before the cast: a low inlier ratio can ask for more samples than an int holds.
-        const double samples = std::ceil(std::log(1 - options.confidence) / std::log(1 - p_good));
-        needed = samples < options.max_iterations ? static_cast<int>(samples) : options.max_iterations;
+        // log1p: for p_good under 1e-16, 1 - p_good is 1 in doubles, and the quotient was -inf.
+        const double samples = std::ceil(std::log(1 - options.confidence) / std::log1p(-p_good));
+        needed = samples < options.max_iterations ? static_cast<int>(std::max(samples, 0.0)) : options.max_iterations;
       }
     }
   }
