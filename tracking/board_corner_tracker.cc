@@ -423,7 +423,7 @@ std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey,
     });
     chooseSymmetricOrder(target_, uv, all_expected ? expected : last_seen_);
   }
-  rememberWholeBoard(grey, uv);
+  last_seen_ = uv;  // the detector has learnt from this view already
   BoardCorners c;
   c.uv = uv;
   c.ids.resize(uv.size());
