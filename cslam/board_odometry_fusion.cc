@@ -12,6 +12,7 @@ void BoardOdometryFusionOptions::check() const {
   if (!(max_mahalanobis2 > 0)) throw OptionError("max_mahalanobis2", "must be positive");
   if (!(fast_rotation_deg > 0)) throw OptionError("fast_rotation_deg", "must be positive");
   if (!(max_motion_residual_px > 0)) throw OptionError("max_motion_residual_px", "must be positive");
+  if (max_held_frames < 0) throw OptionError("max_held_frames", "must be 0 or more");
 }
 
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
@@ -24,12 +25,16 @@ PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vect
   return {T_camera_world, sigma2 * H.completeOrthogonalDecomposition().pseudoInverse()};
 }
 
-void BoardOdometryFusion::reset() { fused_.reset(); }
+void BoardOdometryFusion::reset() {
+  fused_.reset();
+  held_ = 0;
+}
 
 SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
                                 const PoseWithCovariance* start) {
   if (!fused_ || !map_motion) {
     fused_ = start ? *start : board;
+    held_ = 0;
     return fused_->T_camera_world;
   }
   const PoseWithCovariance* map_prev = &map_motion->previous;
@@ -45,10 +50,17 @@ SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::opti
   predicted.covariance.bottomRightCorner<3, 3>() += s * s * motion.t() * motion.t().transpose();
   // Update with the board pose as the measurement (Kalman, in the tangent space of the prediction).
   const Vec6 innovation = poseDifference(board.T_camera_world, predicted.T_camera_world);
-  // An innovation beyond the gate means the prediction is worse than its covariance says (the
-  // map moved, a missed frame): its covariance is inflated until the innovation fits (a fading
-  // memory), so a jump hands the pose to the board without losing the filter.
+  // An innovation beyond the gate: in its first frame(s) the board pose is taken for the outlier
+  // and the prediction stands; past max_held_frames the prediction is worse than its covariance
+  // says (the map moved, a missed frame): its covariance is inflated until the innovation fits (a
+  // fading memory), so a jump hands the pose to the board without losing the filter.
   Eigen::LDLT<Mat6> S_ldlt(predicted.covariance + board.covariance);
+  if (innovation.dot(S_ldlt.solve(innovation)) > options_.max_mahalanobis2 && held_ < options_.max_held_frames) {
+    ++held_;
+    fused_ = predicted;
+    return fused_->T_camera_world;
+  }
+  held_ = 0;
   for (int i = 0; i < 20; ++i) {
     const double m2 = innovation.dot(S_ldlt.solve(innovation));
     if (m2 <= options_.max_mahalanobis2) break;

@@ -254,7 +254,11 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   // the image's edge above all) leaves loose.
   std::optional<PoseWithCovariance> start;
   if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
-  return fusion_.update(board_pose, motion, start ? &*start : nullptr).inverse();
+  const SE3 T_camera_world = fusion_.update(board_pose, motion, start ? &*start : nullptr);
+  if (fusion_.heldLastBoard())
+    result->reason += std::string(result->reason.empty() ? "" : "; ") +
+                      "board pose off the features' motion: the motion's pose kept";
+  return T_camera_world.inverse();
 }
 
 std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
