@@ -25,7 +25,8 @@ export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # whose libgphoto2 USB driver leaks and is unloaded before the leak check. Its allocations then end
 # in an unknown module, past which the fast unwinder cannot go to reach the libgphoto2 frames that
 # scripts/lsan.supp names (the slow unwinder can): 2502 leaked bytes per such file failed each test
-# opening one. No test needs the back-end; videos are read by FFmpeg or GStreamer.
+# opening one. No test needs the back-end; videos are read by FFmpeg or GStreamer (slamcmp asks
+# only for the back-ends that read files, media/opencv_media.cc; this stays for any other caller).
 export OPENCV_VIDEOIO_PRIORITY_GPHOTO2=${OPENCV_VIDEOIO_PRIORITY_GPHOTO2:-0}
 cd "$build"
 # Test executables not built (when TARGETs are given) register a *_NOT_BUILT placeholder: skipped.
