@@ -3,13 +3,18 @@
 # build-asan/ and runs them with ctest; a sanitizer report fails the test that triggered it (the
 # command-line tests run the sanitized slamcmp binary too). Third-party leaks are suppressed in
 # scripts/lsan.supp; OpenCV's gphoto2 camera probing is switched off (see below).
-# Usage: scripts/sanitize.sh [TARGET ...]
+# Usage: [SANITIZE_RENDERER=0] scripts/sanitize.sh [TARGET ...]
 #   no TARGET: the whole suite; else only these test targets (slamcmp is always built), e.g.
 #   scripts/sanitize.sh test_core test_eval test_bad_inputs
+#   SANITIZE_RENDERER=0: the synthetic renderer (datasets/) built without the sanitizers, its
+#   sequences rendered at release speed: for the tracking tests (test_datasets and a whole run
+#   keep it sanitized).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build-asan
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSLAMCMP_SANITIZE=ON \
+renderer=ON
+[ "${SANITIZE_RENDERER:-1}" = 0 ] && renderer=OFF
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSLAMCMP_SANITIZE=ON -DSLAMCMP_SANITIZE_RENDERER=$renderer \
   -DSLAMCMP_BUILD_BENCHMARKS=OFF > "$build.log" 2>&1 || { cat "$build.log"; exit 1; }
 if [ $# -gt 0 ]; then
   cmake --build "$build" -j"$(nproc)" --target slamcmp "$@" >> "$build.log" 2>&1 || { tail -n 60 "$build.log"; exit 1; }
