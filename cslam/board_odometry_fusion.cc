@@ -33,8 +33,7 @@ void BoardOdometryFusion::reset() {
 SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::optional<MapMotion>& map_motion,
                                 const PoseWithCovariance* start) {
   if (!fused_ || !map_motion) {
-    fused_ = start ? *start : board;
-    held_ = 0;
+    restartFrom(start ? *start : board);
     return fused_->T_camera_world;
   }
   const PoseWithCovariance* map_prev = &map_motion->previous;
@@ -55,17 +54,17 @@ SE3 BoardOdometryFusion::update(const PoseWithCovariance& board, const std::opti
   // says (the map moved, a missed frame): its covariance is inflated until the innovation fits (a
   // fading memory), so a jump hands the pose to the board without losing the filter.
   Eigen::LDLT<Mat6> S_ldlt(predicted.covariance + board.covariance);
-  if (innovation.dot(S_ldlt.solve(innovation)) > options_.max_mahalanobis2 && held_ < options_.max_held_frames) {
+  double m2 = innovation.dot(S_ldlt.solve(innovation));
+  if (m2 > options_.max_mahalanobis2 && held_ < options_.max_held_frames) {
     ++held_;
     fused_ = predicted;
     return fused_->T_camera_world;
   }
   held_ = 0;
-  for (int i = 0; i < 20; ++i) {
-    const double m2 = innovation.dot(S_ldlt.solve(innovation));
-    if (m2 <= options_.max_mahalanobis2) break;
+  for (int i = 0; i < 20 && m2 > options_.max_mahalanobis2; ++i) {
     predicted.covariance *= m2 / options_.max_mahalanobis2;
     S_ldlt.compute(predicted.covariance + board.covariance);
+    m2 = innovation.dot(S_ldlt.solve(innovation));
   }
   const Mat6 K = predicted.covariance * S_ldlt.solve(Mat6::Identity());
   const Mat6 P = (Mat6::Identity() - K) * predicted.covariance;
