@@ -27,6 +27,7 @@
 #include "ekf/ekf_update.h"
 #include "ekf/frame_measurement.h"
 #include "ekf/measurement_model.h"
+#include "ekf/msckf_update.h"
 #include "monoslam_ekf/monoslam_options.h"
 #include "ekf/motion_model.h"
 #include "ekf/patch_search.h"
@@ -172,6 +173,41 @@ void BM_BoardCornerUpdate(benchmark::State& bench) {
   }
 }
 BENCHMARK(BM_BoardCornerUpdate)->Arg(1)->Arg(0)->ArgName("once")->Unit(benchmark::kMicrosecond);
+
+// hybrid's tracked features (hybrid/tracked_motion.h, off by default): one MSCKF update of T
+// tracks seen in the last two frames (window 2: the clone of the previous pose and the camera,
+// 4 mm apart), on a map of 25 points; each track triangulated, its residual projected on the
+// left null space of its point, the rows compressed by QR to the clones' 14 columns.
+void BM_MsckfUpdate(benchmark::State& bench) {
+  const CameraModel camera = benchCamera();
+  EkfState prior = syntheticState(25);
+  const SE3 T_world_previous = prior.T_world_camera() * SE3::fromRotvec(Vec3(0.001, -0.004, 0.0005), Vec3(-0.004, 0, 0));
+  prior.x().head<3>() = T_world_previous.t();
+  prior.x().segment<4>(EkfState::kQ) = quatVector(T_world_previous.quat());
+  const int clone = cloneCameraPose(prior);
+  prior.x().head<3>() = Vec3::Zero();
+  prior.x().segment<4>(EkfState::kQ) = Vec4(1, 0, 0, 0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<std::vector<CloneObservation>> tracks;
+  for (int i = 0; i < bench.range(0); ++i) {
+    const double depth = 2.0 + unit(rng);
+    const Vec3 p(0.5 * depth * unit(rng), 0.4 * depth * unit(rng), depth);
+    tracks.push_back({{clone, camera.project(T_world_previous.inverse() * p)}, {0, camera.project(p)}});
+  }
+  MsckfOptions options;
+  options.pixel_sigma = 0.3;
+  options.min_parallax_deg = 0;
+  for (auto _ : bench) {
+    bench.PauseTiming();
+    EkfState state = prior;
+    bench.ResumeTiming();
+    const MsckfResult result = msckfUpdate(state, camera, tracks, options);
+    benchmark::DoNotOptimize(result.used);
+    benchmark::DoNotOptimize(state.P().data());
+  }
+}
+BENCHMARK(BM_MsckfUpdate)->Arg(40)->Arg(80)->Arg(160)->ArgName("tracks")->Unit(benchmark::kMicrosecond);
 
 // One feature: its template warped to the predicted view, then searched over its 3-sigma ellipse.
 void BM_ActiveSearchPerFeature(benchmark::State& bench) {

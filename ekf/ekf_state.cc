@@ -9,12 +9,31 @@ void EkfState::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 
   x_.segment<3>(kR) = T_world_camera.t();
   x_.segment<4>(kQ) = quatVector(T_world_camera.quat());
   P_ = P_camera;
+  tail_ = 0;
 }
 
 SE3 EkfState::T_world_camera() const { return SE3(quatFromVector(q()), r()); }
 
 int EkfState::append(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
                      const Eigen::MatrixXd& P_block_rest) {
+  const int at = size() - tail_;
+  appendToTail(value, P_block, P_block_rest);
+  tail_ -= static_cast<int>(value.size());
+  if (tail_ == 0) return at;
+  // Rotate the new block in front of the tail: x = (head, tail, new) -> (head, new, tail).
+  const int n = size(), d = static_cast<int>(value.size());
+  Eigen::VectorXi order(n);
+  for (int i = 0; i < at; ++i) order[i] = i;
+  for (int i = 0; i < d; ++i) order[at + i] = n - d + i;
+  for (int i = 0; i < tail_; ++i) order[at + d + i] = at + i;
+  const Eigen::PermutationMatrix<Eigen::Dynamic> to_old(order);  // new index i <- old index order[i]
+  x_ = to_old.transpose() * x_;
+  P_ = (to_old.transpose() * P_ * to_old).eval();
+  return at;
+}
+
+int EkfState::appendToTail(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
+                           const Eigen::MatrixXd& P_block_rest) {
   const int n = size(), d = static_cast<int>(value.size());
   assert(P_block.rows() == d && P_block.cols() == d);
   assert(P_block_rest.rows() == d && P_block_rest.cols() == n);
@@ -24,6 +43,7 @@ int EkfState::append(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_bloc
   P_.bottomLeftCorner(d, n) = P_block_rest;
   P_.topRightCorner(n, d) = P_block_rest.transpose();
   P_.bottomRightCorner(d, d) = P_block;
+  tail_ += d;
   return n;
 }
 
@@ -37,13 +57,14 @@ void EkfState::remove(int offset, int dim) {
   P_.middleRows(offset, tail) = P_.bottomRows(tail).eval();
   P_.middleCols(offset, tail) = P_.rightCols(tail).eval();
   P_.conservativeResize(n - dim, n - dim);
+  if (offset >= n - tail_) tail_ -= dim;
 }
 
-void EkfState::renormaliseQuaternion() {
+void EkfState::renormaliseQuaternion(int offset) {
   Mat4 J;
-  x_.segment<4>(kQ) = normaliseQuat(q(), &J);
-  P_.middleRows<4>(kQ) = (J * P_.middleRows<4>(kQ)).eval();
-  P_.middleCols<4>(kQ) = (P_.middleCols<4>(kQ) * J.transpose()).eval();
+  x_.segment<4>(offset) = normaliseQuat(x_.segment<4>(offset), &J);
+  P_.middleRows<4>(offset) = (J * P_.middleRows<4>(offset)).eval();
+  P_.middleCols<4>(offset) = (P_.middleCols<4>(offset) * J.transpose()).eval();
 }
 
 }  // namespace slamcmp

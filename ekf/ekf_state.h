@@ -3,7 +3,7 @@
 // Camera: position r (world), unit quaternion q = (w, x, y, z) of R_world_camera, linear velocity v
 // (world, m/s), angular velocity w (camera frame, rad/s): 13 values. Feature blocks follow in the
 // order they were appended (3 for a point, 6 for an initialising ray); removing one removes its
-// rows and columns.
+// rows and columns. A tail of other blocks (cloned camera poses) may follow the features.
 #include <Eigen/Core>
 
 #include "core/geometry.h"
@@ -32,18 +32,28 @@ class EkfState {
   SE3 T_world_camera() const;
 
   // Appends a block with value `value`, covariance `P_block` and cross covariance `P_block_rest`
-  // (block rows x size() before the append) with everything already in the state. Returns its offset.
+  // (block rows x size() before the append) with everything already in the state, before the
+  // tail. Returns its offset.
   int append(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
              const Eigen::MatrixXd& P_block_rest);
-  // Removes `dim` rows and columns starting at `offset` (a feature block, never the camera).
+  // The same at the very end, in the tail: blocks that are not the map's (past camera poses
+  // cloned for a sliding window), addressed from the end, so that the map's features can come and
+  // go before them.
+  int appendToTail(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
+                   const Eigen::MatrixXd& P_block_rest);
+  int tailSize() const { return tail_; }
+  // Removes `dim` rows and columns starting at `offset` (a feature block or a tail block, never
+  // the camera).
   void remove(int offset, int dim);
 
-  // q <- q / |q| with the normalisation Jacobian applied to P's quaternion rows and columns.
-  void renormaliseQuaternion();
+  // q <- q / |q| with the normalisation Jacobian applied to P's quaternion rows and columns: the
+  // camera's, or the one at `offset` (a cloned pose's).
+  void renormaliseQuaternion(int offset = kQ);
 
  private:
   Eigen::VectorXd x_;
   Eigen::MatrixXd P_;
+  int tail_ = 0;  // dimension of the tail's blocks
 };
 
 }  // namespace slamcmp

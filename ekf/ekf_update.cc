@@ -89,22 +89,25 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
   return 0.5 * (S + S.transpose());
 }
 
-bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma) {
-  if (observations.empty()) return true;
-  const int n = state.size();
-  Eigen::MatrixXd& P = state.P();
-  Eigen::MatrixXd W, S;
-  Eigen::VectorXd nu;
-  gainInnovation(P, observations, pixel_sigma, &W, &S, &nu);
+bool kalmanUpdate(EkfState& state, Eigen::MatrixXd W, const Eigen::MatrixXd& S, Eigen::VectorXd nu) {
   const Eigen::LLT<Eigen::MatrixXd> llt(S.selfadjointView<Eigen::Lower>());
   if (llt.info() != Eigen::Success) return false;
   llt.matrixL().solveInPlace(nu);                           // L^-1 nu
   llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);          // W <- P H^T L^-T (U = L^T)
   state.x().noalias() += W * nu;                     // K nu = P H^T S^-1 nu
+  Eigen::MatrixXd& P = state.P();
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);  // P -= K S K^T = W W^T
-  for (int j = 1; j < n; ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
+  for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
   return true;
+}
+
+bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma) {
+  if (observations.empty()) return true;
+  Eigen::MatrixXd W, S;
+  Eigen::VectorXd nu;
+  gainInnovation(state.P(), observations, pixel_sigma, &W, &S, &nu);
+  return kalmanUpdate(state, std::move(W), S, std::move(nu));
 }
 
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,

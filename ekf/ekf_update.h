@@ -28,6 +28,11 @@ Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h,
 Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
                                      double pixel_sigma);
 
+// The Kalman update from W = P H^T (n x m), S = H P H^T + R (its lower triangle is read) and
+// nu = z - h: x += W S^-1 nu, P -= W S^-1 W^T (as below), q renormalised. Returns false, leaving
+// the state untouched, when S is not positive definite.
+bool kalmanUpdate(EkfState& state, Eigen::MatrixXd W, const Eigen::MatrixXd& S, Eigen::VectorXd nu);
+
 // K = P H^T S^-1, x += K (z - h), P -= K S K^T, then q renormalised with its Jacobian applied to P.
 // With S = L L^T and W = P H^T L^-T: x += W L^-1 (z - h) and P -= W W^T, a symmetric rank-2m
 // update of P's lower triangle mirrored to the upper (O(n^2 m), half the flops of K (P H^T)^T,

@@ -35,9 +35,9 @@ int promoteRay(EkfState& state, int ray_offset, double depth_mean, double depth_
   const Eigen::MatrixXd P_rest = J * state.P().middleRows<6>(ray_offset);  // 3 x n
   const Eigen::Matrix<double, 6, 6> P_ray = state.P().block<6, 6>(ray_offset, ray_offset);
   const Mat3 P_point = J * P_ray * J.transpose() + depth_var * h * h.transpose();
-  state.append(r0 + depth_mean * h, P_point, P_rest);
+  const int point_offset = state.append(r0 + depth_mean * h, P_point, P_rest);
   state.remove(ray_offset, 6);
-  return state.size() - 3;
+  return point_offset - 6;  // the ray was before it
 }
 
 double DepthParticles::mean() const {

@@ -94,9 +94,9 @@ int convertToPoint(EkfState& state, int offset) {
   const Vec3 p = inverseDepthToPoint(state.x().segment<6>(offset), &J);
   const Eigen::MatrixXd P_rest = J * state.P().middleRows<6>(offset);  // 3 x n
   const Mat3 P_point = P_rest.middleCols<6>(offset) * J.transpose();
-  state.append(p, P_point, P_rest);
+  const int point_offset = state.append(p, P_point, P_rest);
   state.remove(offset, 6);
-  return state.size() - 3;
+  return point_offset - 6;  // the inverse-depth block was before it
 }
 
 }  // namespace slamcmp

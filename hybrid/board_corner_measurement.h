@@ -91,6 +91,11 @@ class BoardCornerMeasurer {
   // The whole board anywhere in `grey` (SPEC order, distorted pixels), empty if none; skipped
   // where the presence test rules it out (tracking/board_presence).
   std::vector<cv::Point2f> searchWholeImage(const cv::Mat& grey);
+  // The Lucas-Kanade pyramid of the image last measured (measure, measureDetected), for other
+  // trackers of the same frame.
+  const std::vector<cv::Mat>& pyramid() const { return pyramid_prev_; }
+  cv::Size lkWindow() const { return cv::Size(options_.lk_window_px, options_.lk_window_px); }
+  int lkLevels() const { return options_.lk_levels; }
 
  private:
   struct CornerPrediction {

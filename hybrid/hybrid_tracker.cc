@@ -37,6 +37,7 @@ void HybridTracker::startFilter(const CameraModel& camera) {
   slam_ = std::make_unique<EkfSlam>(
       camera, options_.filter);
   corners_ = std::make_unique<BoardCornerMeasurer>(camera, target_, options_.corners);
+  motion_ = std::make_unique<TrackedMotion>(camera, options_.tracked_motion, corners_->lkWindow(), corners_->lkLevels());
 }
 
 nlohmann::json HybridTracker::options() const {
@@ -106,6 +107,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
       Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
   slam_->reset(board_pose.T_camera_board.inverse(), P0);
   corners_->reset();
+  motion_->reset();
   *board = corners_->measureDetected(slam_->state(), frame.grey, uv);
   if (board->observations.empty() || !corners_->update(slam_->state(), board))
     return false;
@@ -166,6 +168,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
       result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
       return result;
     }
+    motion_->update(slam_->state(), frame.grey, corners_->pyramid(), true);
     slam_->updateMap(frame.grey, visible_, boardPixels());
   } else {
     {
@@ -190,6 +193,12 @@ FrameResult HybridTracker::track(const Frame& frame) {
       for (size_t k = 0; k < board.observations.size(); ++k)
         result.overlay->features.push_back(
             {-1 - board.corner_ids[k], board.observations[k].z, OverlayFeatureState::Matched});
+    }
+    // The tracks after the other updates (the pose they clone is this frame's best), before the
+    // map grows or shrinks.
+    if (options_.tracked_motion.enabled) {
+      const StageTimer timer(&result.stages, "tracks");
+      motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty());
     }
     {
       const StageTimer timer(&result.stages, "map");
@@ -244,7 +253,7 @@ BackendRegistration hybridBackend() {
       [](const TrackerContext& context, const HybridOptions& options) {
         return std::make_unique<HybridTracker>(context, options);
       });
-  r.stages = {"predict", "board", "features", "map"};
+  r.stages = {"predict", "board", "features", "tracks", "map"};
   return r;
 }
 

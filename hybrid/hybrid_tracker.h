@@ -18,6 +18,7 @@
 #include "ekf/ekf_slam.h"
 #include "ekf/pose_reporting.h"
 #include "hybrid/board_corner_measurement.h"
+#include "hybrid/tracked_motion.h"
 
 namespace slamcmp {
 
@@ -42,12 +43,14 @@ struct HybridOptions {
   EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
   HybridStartOptions start;
   BoardCornerMeasurementOptions corners;
+  TrackedMotionOptions tracked_motion;
   SelfCalibrationOptions calibration;
   template <class V>
   void visit(V& v) {
     visitFilterOptions(v, filter);
     v("start", start, "first camera state uncertainty");
     v("corners", corners, "the board's corners, each a known landmark");
+    v("tracked_motion", tracked_motion, "features tracked over a sliding window of poses (MSCKF update)");
     v("calibration", calibration, "self-calibration when no camera file is given");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)
@@ -92,6 +95,7 @@ class HybridTracker : public Tracker {
 
   std::unique_ptr<EkfSlam> slam_;
   std::unique_ptr<BoardCornerMeasurer> corners_;
+  std::unique_ptr<TrackedMotion> motion_;
   bool running_ = false;
   bool ever_started_ = false;
   std::string lost_reason_;

@@ -1,0 +1,97 @@
+#include "hybrid/tracked_motion.h"
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+void TrackedMotionOptions::check() const {
+  if (window < 2 || window > 30) throw OptionError("window", "must be in [2, 30]");
+  if (min_track_length < 2 || min_track_length > window)
+    throw OptionError("min_track_length", "must be in [2, window]");
+  if (!(pixel_sigma > 0)) throw OptionError("pixel_sigma", "must be positive");
+  if (!(gate_probability > 0 && gate_probability < 1)) throw OptionError("gate_probability", "must be in (0, 1)");
+  if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw OptionError("min_parallax_deg", "must be in [0, 90)");
+  if (!(max_triangulation_px > 0)) throw OptionError("max_triangulation_px", "must be positive");
+  tracks.check();
+}
+
+TrackedMotion::TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window,
+                             int lk_levels)
+    : camera_(camera), options_(options), lk_window_(lk_window), lk_levels_(lk_levels), tracker_(options.tracks) {}
+
+void TrackedMotion::reset() {
+  tracker_.clear();
+  pyramid_previous_.clear();
+  clones_.clear();
+  seen_.clear();
+}
+
+int TrackedMotion::cloneOffset(const EkfState& state, int clone) const {
+  return state.size() - state.tailSize() + kCloneDim * (clone - clones_.front());
+}
+
+MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
+                                  bool anchored) {
+  MsckfResult result;
+  if (!options_.enabled) return result;
+  if (state.tailSize() != kCloneDim * static_cast<int>(clones_.size())) reset();  // the filter restarted
+  if (!clones_.empty() && !tracker_.features().empty()) {
+    // Where the filter's rotation since the last clone puts each feature (at infinity): a fast
+    // turn moves the image beyond the pyramid's reach.
+    const int last = cloneOffset(state, clones_.back());
+    const Mat3 R_current_last = rotationFromQuat(state.q()).transpose() *
+                                rotationFromQuat(state.x().segment<4>(last + 3));
+    std::vector<cv::Point2f> predicted;
+    for (const Feature& f : tracker_.features()) {
+      const Vec3 ray = R_current_last * camera_.undistortPixel(Vec2(f.uv.x, f.uv.y)).homogeneous();
+      const Vec2 uv = ray.z() > 0 ? camera_.pixelFromNormalised(camera_.distort(ray.hnormalized())) : Vec2(f.uv.x, f.uv.y);
+      predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+    }
+    tracker_.track(pyramid_previous_, pyramid, lk_window_, lk_levels_, &predicted);
+  } else {
+    tracker_.clear();
+  }
+  cloneCameraPose(state);
+  clones_.push_back(next_clone_++);
+  for (const Feature& f : tracker_.features()) seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
+
+  // The tracks that ended, and those as long as the window (their next frame would lose the
+  // oldest clone). A track that goes on starts its next stretch at its last observation: each
+  // frame-to-frame step of a track is used once (the shared observation's noise correlates
+  // consecutive stretches, as in frame-to-frame odometry).
+  std::vector<std::vector<CloneObservation>> tracks;
+  const auto use = [&](std::vector<std::pair<int, Vec2>>& seen) {
+    if (static_cast<int>(seen.size()) < options_.min_track_length) return;
+    std::vector<CloneObservation> track;
+    for (const auto& [clone, uv] : seen) track.push_back({cloneOffset(state, clone), uv});
+    tracks.push_back(std::move(track));
+  };
+  for (int id : tracker_.ended()) {
+    const auto it = seen_.find(id);
+    if (it == seen_.end()) continue;
+    use(it->second);
+    seen_.erase(it);
+  }
+  for (const Feature& f : tracker_.features()) {
+    std::vector<std::pair<int, Vec2>>& seen = seen_[f.id];
+    if (static_cast<int>(seen.size()) < options_.window) continue;
+    use(seen);
+    seen.erase(seen.begin(), seen.end() - 1);
+  }
+  if ((anchored || options_.without_board) && !tracks.empty()) result = msckfUpdate(state, camera_, tracks, options_.msckf());
+
+  if (static_cast<int>(clones_.size()) >= options_.window) {
+    state.remove(cloneOffset(state, clones_.front()), kCloneDim);
+    clones_.pop_front();
+  }
+  const size_t before = tracker_.features().size();
+  tracker_.replenish(grey);
+  for (size_t k = before; k < tracker_.features().size(); ++k) {
+    const Feature& f = tracker_.features()[k];
+    seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
+  }
+  pyramid_previous_ = pyramid;  // shares the images
+  return result;
+}
+
+}  // namespace slamcmp
