@@ -107,7 +107,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
       Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
   slam_->reset(board_pose.T_camera_board.inverse(), P0);
   corners_->reset();
-  motion_->reset();
+  motion_->reset(slam_->state());
   *board = corners_->measureDetected(slam_->state(), frame.grey, uv);
   if (board->observations.empty() || !corners_->update(slam_->state(), board))
     return false;

@@ -19,7 +19,8 @@ TrackedMotion::TrackedMotion(const CameraModel& camera, const TrackedMotionOptio
                              int lk_levels)
     : camera_(camera), options_(options), lk_window_(lk_window), lk_levels_(lk_levels), tracker_(options.tracks) {}
 
-void TrackedMotion::reset() {
+void TrackedMotion::reset(EkfState& state) {
+  while (state.tailSize() >= kCloneDim) state.remove(state.size() - kCloneDim, kCloneDim);
   tracker_.clear();
   pyramid_previous_.clear();
   clones_.clear();
@@ -34,7 +35,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
                                   bool anchored) {
   MsckfResult result;
   if (!options_.enabled) return result;
-  if (state.tailSize() != kCloneDim * static_cast<int>(clones_.size())) reset();  // the filter restarted
+  if (state.tailSize() != kCloneDim * static_cast<int>(clones_.size())) reset(state);  // the filter restarted
   if (!clones_.empty() && !tracker_.features().empty()) {
     // Where the filter's rotation since the last clone puts each feature (at infinity): a fast
     // turn moves the image beyond the pyramid's reach.
@@ -78,7 +79,8 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     use(seen);
     seen.erase(seen.begin(), seen.end() - 1);
   }
-  if ((anchored || options_.without_board) && !tracks.empty()) result = msckfUpdate(state, camera_, tracks, options_.msckf());
+  if ((anchored || options_.without_board) && !tracks.empty())
+    result = msckfUpdate(state, camera_, tracks, options_.msckf());
 
   if (static_cast<int>(clones_.size()) >= options_.window) {
     state.remove(cloneOffset(state, clones_.front()), kCloneDim);
