@@ -195,8 +195,9 @@ FrameResult HybridTracker::track(const Frame& frame) {
             {-1 - board.corner_ids[k], board.observations[k].z, OverlayFeatureState::Matched});
     }
     // The tracks after the other updates (the pose they clone is this frame's best), before the
-    // map grows or shrinks.
-    if (options_.tracked_motion.enabled) {
+    // map grows or shrinks. Timed whether on or not (a stage the registration names is always
+    // there: off, it costs nothing).
+    {
       const StageTimer timer(&result.stages, "tracks");
       motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty());
     }
