@@ -14,8 +14,10 @@
 
 namespace slamcmp {
 
-// Offset of a camera pose clone (r, q: 7 values) appended to the state's tail.
-constexpr int kCloneDim = 7;
+constexpr int kCloneDim = 7;  // a cloned camera pose: r, q
+// The camera's (r, q) appended to the state's tail as a clone; returns its offset, which holds
+// only until a map block is appended or removed in front of it: a caller keeps a clone's place
+// from the end of the state (size() - tailSize()).
 int cloneCameraPose(EkfState& state);
 
 struct CloneObservation {

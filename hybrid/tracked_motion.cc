@@ -36,7 +36,8 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
   MsckfResult result;
   if (!options_.enabled) return result;
   if (state.tailSize() != kCloneDim * static_cast<int>(clones_.size())) reset(state);  // the filter restarted
-  if (!clones_.empty() && !tracker_.features().empty()) {
+  const bool tracked = !clones_.empty() && !tracker_.features().empty();
+  if (tracked) {
     // Where the filter's rotation since the last clone puts each feature (at infinity): a fast
     // turn moves the image beyond the pyramid's reach.
     const int last = cloneOffset(state, clones_.back());
@@ -67,7 +68,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     for (const auto& [clone, uv] : seen) track.push_back({cloneOffset(state, clone), uv});
     tracks.push_back(std::move(track));
   };
-  for (int id : tracker_.ended()) {
+  for (int id : tracked ? tracker_.ended() : std::vector<int>{}) {  // ended(): since the last track()
     const auto it = seen_.find(id);
     if (it == seen_.end()) continue;
     use(it->second);

@@ -1,11 +1,13 @@
 #pragma once
 // Many image features tracked from frame to frame as a measurement of the hybrid filter
 // (ekf/msckf_update.h): Shi-Tomasi features tracked by pyramidal Lucas-Kanade, each camera pose of
-// a sliding window cloned into the state, and every track that ends (lost, or as long as the
-// window) used once in an MSCKF update of the window's poses. The dozen patch features the filter
-// maps hold the absolute pose apart from the board; these hundred-odd tracks hold the window's
-// poses together, which averages the board's per-frame noise over frames as cslam's fused motion
-// does, and carries the camera on when the board is away.
+// a sliding window cloned into the state, and every stretch of a track that ends (lost, or as
+// long as the window) used in an MSCKF update of the window's poses. A track that goes on starts
+// its next stretch at the last observation of the one used, as frame-to-frame odometry does: that
+// observation is in two updates, whose noise the filter takes as independent (pixel_sigma, set
+// from the runs, absorbs it). The dozen patch features the filter maps hold the absolute pose
+// apart from the board; these eighty tracks hold the window's poses together, which averages the
+// board's per-frame noise over frames as cslam's fused motion does.
 #include <deque>
 #include <unordered_map>
 #include <utility>
