@@ -76,9 +76,7 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
     for (int i = 0; i < featureDim(observations[k]); ++i) index.push_back(observations[k].offset + i);
   }
   const int d = static_cast<int>(index.size());
-  Eigen::MatrixXd P_sub(d, d);
-  for (int j = 0; j < d; ++j)
-    for (int i = 0; i < d; ++i) P_sub(i, j) = P(index[i], index[j]);
+  const Eigen::MatrixXd P_sub = P(index, index);
   Eigen::MatrixXd H_sub = Eigen::MatrixXd::Zero(2 * m, d);
   for (int k = 0; k < m; ++k) {
     H_sub.block<2, kPose>(2 * k, 0) = poseJacobian(observations[k].h);

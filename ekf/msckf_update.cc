@@ -76,9 +76,7 @@ MsckfResult msckfUpdate(EkfState& state, const CameraModel& camera,
     for (int k = 0; k < kCloneDim; ++k) columns.push_back(offset + k);
   }
   const int c = static_cast<int>(columns.size());
-  Eigen::MatrixXd P_cc(c, c);
-  for (int j = 0; j < c; ++j)
-    for (int i = 0; i < c; ++i) P_cc(i, j) = state.P()(columns[i], columns[j]);
+  const Eigen::MatrixXd P_cc = state.P()(columns, columns);
 
   const double sigma2 = options.pixel_sigma * options.pixel_sigma;
   std::vector<Eigen::MatrixXd> accepted;  // whitened [H | r] rows of each track that passed
@@ -130,9 +128,7 @@ MsckfResult msckfUpdate(EkfState& state, const CameraModel& camera,
     stacked = qr.matrixQR().topRows(c).triangularView<Eigen::Upper>();
   }
   const Eigen::MatrixXd H = stacked.leftCols(c);
-  Eigen::MatrixXd PH(state.size(), c);  // P H^T over the whole state
-  for (int j = 0; j < c; ++j) PH.col(j) = state.P().col(columns[j]);
-  PH = (PH * H.transpose()).eval();
+  Eigen::MatrixXd PH = state.P()(Eigen::all, columns) * H.transpose();  // P H^T over the state
   Eigen::MatrixXd S = H * P_cc * H.transpose();
   S.diagonal().array() += 1.0;  // whitened
   result.applied = kalmanUpdate(state, std::move(PH), S, stacked.col(c));
