@@ -11,6 +11,14 @@
 
 namespace slamcmp {
 
+// A block to add to the state: its value, covariance and cross covariance with the state before
+// it is added (block rows x size()).
+struct StateBlock {
+  Eigen::VectorXd value;
+  Eigen::MatrixXd P_block;
+  Eigen::MatrixXd P_block_rest;
+};
+
 class EkfState {
  public:
   static constexpr int kCameraDim = 13;

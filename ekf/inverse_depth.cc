@@ -49,8 +49,8 @@ bool predictInverseDepthMeasurement(const CameraModel& camera, const Vec3& r, co
   return true;
 }
 
-int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
-                              double pixel_sigma, double rho0, double rho_sigma) {
+StateBlock inverseDepthFeature(const EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
+                               double pixel_sigma, double rho0, double rho_sigma) {
   Mat34 J_q;
   Eigen::Matrix<double, 3, 2> J_uv;
   const Vec3 h = rayFromPixel(camera, state.q(), uv_distorted, &J_q, &J_uv);
@@ -67,7 +67,13 @@ int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const 
   P_y(5, 5) += rho_sigma * rho_sigma;
   Vec6 y;
   y << state.r(), angles, rho0;
-  return state.append(y, P_y, P_y_rest);
+  return {y, P_y, P_y_rest};
+}
+
+int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
+                              double pixel_sigma, double rho0, double rho_sigma) {
+  const StateBlock block = inverseDepthFeature(state, camera, uv_distorted, pixel_sigma, rho0, rho_sigma);
+  return state.append(block.value, block.P_block, block.P_block_rest);
 }
 
 double linearityIndex(const EkfState& state, int offset) {

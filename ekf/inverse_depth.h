@@ -28,9 +28,11 @@ Vec3 inverseDepthPoint(const Vec6& y, double min_rho = 1e-3);
 bool predictInverseDepthMeasurement(const CameraModel& camera, const Vec3& r, const Vec4& q, const Vec6& y,
                                     PointMeasurement* out);
 
-// Appends the feature seen at the distorted pixel uv from the current camera: x0 = r, (theta, phi)
-// of the ray, rho = rho0; its covariance from the camera's (r, q), the pixel noise
-// and rho_sigma. Returns its state offset.
+// The feature seen at the distorted pixel uv from the current camera: x0 = r, (theta, phi) of the
+// ray, rho = rho0; its covariance from the camera's (r, q), the pixel noise and rho_sigma.
+StateBlock inverseDepthFeature(const EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
+                               double pixel_sigma, double rho0, double rho_sigma);
+// That feature appended to the map (before the state's tail). Returns its state offset.
 int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
                               double pixel_sigma, double rho0, double rho_sigma);
 

@@ -50,7 +50,7 @@ struct HybridOptions {
     visitFilterOptions(v, filter);
     v("start", start, "first camera state uncertainty");
     v("corners", corners, "the board's corners, each a known landmark");
-    v("tracked_motion", tracked_motion, "features tracked over a sliding window of poses (MSCKF update)");
+    v("tracked_motion", tracked_motion, "features tracked over a sliding window of poses (MSCKF update) and as points");
     v("calibration", calibration, "self-calibration when no camera file is given");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)

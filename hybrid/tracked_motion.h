@@ -1,15 +1,20 @@
 #pragma once
-// Many image features tracked from frame to frame as a measurement of the hybrid filter
-// (ekf/msckf_update.h): Shi-Tomasi features tracked by pyramidal Lucas-Kanade, each camera pose of
-// a sliding window cloned into the state, and every stretch of a track that ends (lost, or as
-// long as the window) used in an MSCKF update of the window's poses. A track that goes on starts
-// its next stretch at the last observation of the one used, as frame-to-frame odometry does: that
-// observation is in two updates, whose noise the filter takes as independent (pixel_sigma, set
-// from the runs, absorbs it). The dozen patch features the filter maps hold the absolute pose
-// apart from the board; these eighty tracks hold the window's poses together, which averages the
-// board's per-frame noise over frames as cslam's fused motion does.
+// Many image features tracked from frame to frame as a measurement of the hybrid filter: Shi-Tomasi
+// features tracked by pyramidal Lucas-Kanade, used two ways.
+// - The window (ekf/msckf_update.h): each camera pose of a sliding window is cloned into the
+//   state, and every stretch of a track that ends (lost, or as long as the window) is used in an
+//   MSCKF update of the window's poses. A track that goes on starts its next stretch at the last
+//   observation of the one used, as frame-to-frame odometry does: that observation is in two
+//   updates, whose noise the filter takes as independent (pixel_sigma, set from the runs, absorbs
+//   it). Two close views leave a turn traded against a step across the view, the mode the board
+//   leaves open too.
+// - Points: a score of tracks are held in the state as inverse-depth points, measured in every
+//   frame from the image they were first seen in. Their depths, learnt over the whole track, tell
+//   the turn from the step, and they carry the filter where the board leaves.
 #include <deque>
+#include <map>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -23,12 +28,11 @@
 namespace slamcmp {
 
 struct TrackedMotionOptions {
-  // Off by default: with the board in view the tracks lower hybrid's error on 12 of 13 preset
-  // runs (tv1..tv4 0.68 / 0.73 / 0.76 / 1.65 -> 0.58 / 0.48 / 0.70 / 1.59 mm, board_partial 0.30
-  // to 0.40 -> 0.29 to 0.32), but where the board leaves in a fast pan the filter's few young
-  // patch features decide whether it carries on, and any change of its path there flips that:
-  // board_leaves at 200 frames loses 73 frames with them (200 posed without), and without them
-  // with another feature seed goes 3 mm off instead.
+  // Off by default. Full presets, seed 1 (README): the tracks with their points lower hybrid's
+  // error on 10 of 14 runs (tv1 0.68 -> 0.42 mm, board_leaves seed 2 2.18 -> 0.88, wall_turn seed
+  // 2 3.11 -> 0.72) and carry it through the board's departure where the dozen patch features did
+  // not, but roll_distortion goes from 0.20 to 0.49 mm and board_leaves seed 3 from 3.7 to 4.4,
+  // and a frame costs about 1.5 ms more.
   bool enabled = false;
   // Camera poses cloned in the state, the current one's included. 2, each frame-to-frame step of
   // every track used in the frame it is made, did best: with 8 (ATE tv1..tv4 0.64 / 0.70 / 0.88 /
@@ -47,9 +51,27 @@ struct TrackedMotionOptions {
   // and wall_turn): better on some runs, worse on others (board_leaves seed 3 NEES 5-11).
   bool without_board = false;
   FeatureTrackerOptions tracks{80, 50};  // at most 80 tracked, replenished below 50
+  // Tracks kept in the state as points in inverse depth (Civera 2008), anchored where they were
+  // first seen and measured in every frame they are tracked (OpenVINS's SLAM features); their
+  // tracks are not in the window's updates. New ones start on tracks that are none while fewer
+  // are held.
+  int points = 20;
+  double point_pixel_sigma = 0.3;  // pixels, a point's measurement noise per coordinate
+  double point_rho = 1.0;          // 1/m, a new point's inverse depth (1 m) ...
+  double point_rho_sigma = 1.0;    // 1/m, ... and its std: from 0.33 m to beyond infinity at 2 sigma
+  // A point is measured by Lucas-Kanade from the image where it was first seen, started at its
+  // track: a chain of frame-to-frame steps drifts (0.06 px rms off a fixed point over tv1), which
+  // a point held for hundreds of frames takes for motion. Where the two disagree by more than
+  // this, or the first view no longer matches, the point starts again on its track.
+  double point_max_anchor_px = 1.0;
+  // Lucas-Kanade shifts a patch; it neither scales nor turns it: a point whose first view's patch,
+  // scaled by the change of its distance and turned by the roll since, would move its window's
+  // corners by more than this starts again (held through tv3's zoom, points were 0.4 px off a
+  // fixed point).
+  double point_max_deformation_px = 0.4;
   template <class V>
   void visit(V& v) {
-    v("enabled", enabled, "update the filter with features tracked over a sliding window of cloned poses (MSCKF)");
+    v("enabled", enabled, "update the filter with features tracked over a sliding window of cloned poses (MSCKF) and as points");
     v("window", window, "camera poses held in the state for the tracks, the current one's included");
     v("min_track_length", min_track_length, "a track seen in fewer frames is not used");
     v("pixel_sigma", pixel_sigma, "a tracked point's noise per coordinate, pixels");
@@ -58,6 +80,15 @@ struct TrackedMotionOptions {
     v("max_triangulation_px", max_triangulation_px, "a triangulated track missing one of its frames by more is left out, pixels");
     v("without_board", without_board, "also update the frames in which no board corner is measured");
     v("tracks", tracks, "the tracked Shi-Tomasi features");
+    v("points", points, "tracks kept in the state as inverse-depth points, measured every frame (0: none)");
+    v("point_pixel_sigma", point_pixel_sigma, "pixels, a tracked point's measurement noise per coordinate");
+    v("point_rho", point_rho, "1/m, a new tracked point's inverse depth");
+    v("point_rho_sigma", point_rho_sigma, "1/m, std of a new tracked point's inverse depth");
+    v("point_max_anchor_px", point_max_anchor_px,
+      "pixels; a point found from its first view this far from its track starts again");
+    v("point_max_deformation_px", point_max_deformation_px,
+      "pixels; a point whose first view, scaled and turned as the camera moved since, moves its window's corners "
+      "this much starts again");
   }
   void check() const;
   MsckfOptions msckf() const { return {pixel_sigma, gate_probability, min_parallax_deg, max_triangulation_px}; }
@@ -69,9 +100,10 @@ class TrackedMotion {
   TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window, int lk_levels);
 
   // After the frame's other updates, before the map grows or shrinks: the tracks followed into
-  // `grey` (its `pyramid`; started where the filter's rotation since the last clone puts them), the camera
-  // cloned, the tracks that ended used in one update, the oldest clone dropped from the window,
-  // the tracks replenished. Only frames `anchored` by the board are updated (unless
+  // `grey` (its `pyramid`; started where the filter's rotation since the last clone puts them),
+  // the points measured, the camera cloned, the tracks that ended used in one update, the oldest
+  // clone dropped from the window, the tracks replenished, new points started. The points are
+  // measured in every frame. Only frames `anchored` by the board are updated (unless
   // without_board): without it the tracks' constraints are blind to the scale.
   MsckfResult update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
   // The tracks start again, and the clones still in the state's tail are dropped (none after the
@@ -79,7 +111,27 @@ class TrackedMotion {
   void reset(EkfState& state);
 
  private:
-  int cloneOffset(const EkfState& state, int clone) const;
+  // The state's tail, in order: cloned poses (by number) and tracked points (by track id).
+  struct TailBlock {
+    bool point = false;
+    int id = 0;
+    int dim = 0;
+  };
+  int offsetOf(const EkfState& state, bool point, int id) const;
+  void removeBlock(EkfState& state, bool point, int id);
+  int cloneOffset(const EkfState& state, int clone) const { return offsetOf(state, false, clone); }
+  // The tracked points measured where their tracks are now (gated one by one), those whose track
+  // ended or that failed dropped.
+  void measurePoints(EkfState& state, const std::vector<cv::Mat>& pyramid);
+  void startPoints(EkfState& state, const std::vector<cv::Mat>& pyramid);
+  struct TrackedPoint {
+    int anchor = 0;          // the frame it was first seen in (anchors_)
+    cv::Point2f anchor_uv;   // where
+    Mat3 R_world_first;      // the camera's orientation then
+  };
+  // Pixels by which the point's first-view patch, seen now, departs from a shift at the corners of
+  // a window of that half diagonal.
+  double patchDeformation(const EkfState& state, int offset, const TrackedPoint& point, double half_diagonal) const;
 
   CameraModel camera_;
   TrackedMotionOptions options_;
@@ -90,6 +142,11 @@ class TrackedMotion {
   std::deque<int> clones_;  // the window's clones, oldest first, by number (the state's tail, in order)
   int next_clone_ = 0;
   std::unordered_map<int, std::vector<std::pair<int, Vec2>>> seen_;  // feature id -> (clone, uv) since its last use
+  std::vector<TailBlock> tail_;
+  std::unordered_map<int, TrackedPoint> points_;  // by track id
+  std::map<int, std::vector<cv::Mat>> anchors_;   // frame number -> its pyramid, while points are anchored there
+  int frame_ = 0;
+  std::unordered_set<int> refused_;  // track ids whose point failed its gate
 };
 
 }  // namespace slamcmp
