@@ -3,7 +3,8 @@
 // Camera: position r (world), unit quaternion q = (w, x, y, z) of R_world_camera, linear velocity v
 // (world, m/s), angular velocity w (camera frame, rad/s): 13 values. Feature blocks follow in the
 // order they were appended (3 for a point, 6 for an initialising ray); removing one removes its
-// rows and columns. A tail of other blocks (cloned camera poses) may follow the features.
+// rows and columns. A tail of other blocks (a back-end's cloned camera poses and tracked points)
+// may follow the features.
 #include <Eigen/Core>
 
 #include "core/geometry.h"
@@ -45,8 +46,8 @@ class EkfState {
   int append(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
              const Eigen::MatrixXd& P_block_rest);
   // The same at the very end, in the tail: blocks that are not the map's (past camera poses
-  // cloned for a sliding window), addressed from the end, so that the map's features can come and
-  // go before them.
+  // cloned for a sliding window, points of tracked features), addressed from the tail's start, so
+  // that the map's features can come and go before them.
   int appendToTail(const Eigen::VectorXd& value, const Eigen::MatrixXd& P_block,
                    const Eigen::MatrixXd& P_block_rest);
   int tailSize() const { return tail_; }

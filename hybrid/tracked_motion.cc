@@ -1,14 +1,6 @@
 #include "hybrid/tracked_motion.h"
 
-#include <algorithm>
-#include <cmath>
-
-#include <opencv2/video/tracking.hpp>
-
 #include "core/error.h"
-#include "ekf/ekf_update.h"
-#include "ekf/inverse_depth.h"
-#include "ekf/joint_compatibility.h"
 
 namespace slamcmp {
 
@@ -29,138 +21,38 @@ void TrackedMotionOptions::check() const {
   tracks.check();
 }
 
+namespace {
+constexpr TailLayout::Kind kClone = TailLayout::Kind::kClone;
+}  // namespace
+
 TrackedMotion::TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window,
                              int lk_levels)
-    : camera_(camera), options_(options), lk_window_(lk_window), lk_levels_(lk_levels), tracker_(options.tracks) {}
+    : camera_(camera),
+      options_(options),
+      lk_window_(lk_window),
+      lk_levels_(lk_levels),
+      tracker_(options.tracks),
+      points_(camera, options.pointOptions(), lk_window, lk_levels) {}
 
 void TrackedMotion::reset(EkfState& state) {
-  if (state.tailSize() > 0) state.remove(state.size() - state.tailSize(), state.tailSize());
+  tail_.clear(state);
   tracker_.clear();
   pyramid_previous_.clear();
   clones_.clear();
   seen_.clear();
-  tail_.clear();
   points_.clear();
-  refused_.clear();
-  anchors_.clear();
-}
-
-int TrackedMotion::offsetOf(const EkfState& state, bool point, int id) const {
-  int offset = state.size() - state.tailSize();
-  for (const TailBlock& b : tail_) {
-    if (b.point == point && b.id == id) return offset;
-    offset += b.dim;
-  }
-  return -1;
-}
-
-void TrackedMotion::removeBlock(EkfState& state, bool point, int id) {
-  const int offset = offsetOf(state, point, id);
-  const auto it = std::find_if(tail_.begin(), tail_.end(), [&](const TailBlock& b) { return b.point == point && b.id == id; });
-  state.remove(offset, it->dim);
-  tail_.erase(it);
-  if (point) points_.erase(id);
-}
-
-double TrackedMotion::patchDeformation(const EkfState& state, int offset, const TrackedPoint& point,
-                                       double half_diagonal) const {
-  // The first view's patch, scaled by the change of the point's distance and turned by the roll
-  // since, moves its window's corners by about (|scale - 1| + |roll|) times the half diagonal.
-  const Vec6 y = state.x().segment<6>(offset);
-  const double scale = (inverseDepthPoint(y) - state.r()).norm() * y(5);  // now / first distance
-  const Mat3 R_first_now = point.R_world_first.transpose() * rotationFromQuat(state.q());
-  const double roll = std::atan2(R_first_now(1, 0), R_first_now(0, 0));  // about the optical axis
-  return (std::abs(scale - 1) + std::abs(roll)) * half_diagonal;
-}
-
-void TrackedMotion::measurePoints(EkfState& state, const std::vector<cv::Mat>& pyramid) {
-  // Each point from its first view, started where its track is now, a batch per first view.
-  std::unordered_map<int, Vec2> found;  // track id -> pixel
-  std::map<int, std::vector<int>> by_anchor;
-  std::unordered_map<int, cv::Point2f> tracked;
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01);
-  const float max2 = static_cast<float>(options_.point_max_anchor_px * options_.point_max_anchor_px);
-  const double half_diagonal = 0.5 * std::hypot(lk_window_.width, lk_window_.height);
-  for (const Feature& f : tracker_.features()) {
-    if (!points_.count(f.id)) continue;
-    // Its first view no longer looks like it (TrackedMotionOptions): it starts again.
-    const TrackedPoint& point = points_.at(f.id);
-    if (patchDeformation(state, offsetOf(state, true, f.id), point, half_diagonal) > options_.point_max_deformation_px) continue;
-    tracked.emplace(f.id, f.uv);
-    by_anchor[point.anchor].push_back(f.id);
-  }
-  for (const auto& [anchor, ids] : by_anchor) {
-    std::vector<cv::Point2f> from, to;
-    for (const int id : ids) {
-      from.push_back(points_.at(id).anchor_uv);
-      to.push_back(tracked.at(id));
-    }
-    std::vector<uchar> status;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(anchors_.at(anchor), pyramid, from, to, status, error, lk_window_, lk_levels_, criteria,
-                             cv::OPTFLOW_USE_INITIAL_FLOW);
-    for (size_t k = 0; k < ids.size(); ++k) {
-      const cv::Point2f d = to[k] - tracked.at(ids[k]);
-      if (status[k] && d.dot(d) <= max2) found.emplace(ids[k], Vec2(to[k].x, to[k].y));
-    }
-  }
-  std::vector<int> drop;
-  std::vector<PointObservation> observations;
-  const double gate = chiSquaredQuantile(2, options_.gate_probability);
-  for (const auto& [id, point] : points_) {
-    const auto it = found.find(id);
-    PointObservation o;
-    o.offset = offsetOf(state, true, id);
-    if (it == found.end() ||  // its track ended, or its first view no longer matches (it starts again)
-        !predictInverseDepthMeasurement(camera_, state.r(), state.q(), state.x().segment<6>(o.offset), &o.h)) {
-      drop.push_back(id);
-      continue;
-    }
-    o.z = it->second;
-    const Vec2 nu = o.z - o.h.uv_distorted;
-    const Mat2 S = pointInnovationCovariance(state, o.h, o.offset, options_.point_pixel_sigma);
-    if (nu.dot(S.ldlt().solve(nu)) > gate) {
-      drop.push_back(id);  // a track gone astray, or a point that moves (an occluding edge): not restarted
-      refused_.insert(id);
-      continue;
-    }
-    observations.push_back(o);
-  }
-  if (!observations.empty()) batchUpdate(state, observations, options_.point_pixel_sigma);
-  for (const int id : drop) removeBlock(state, true, id);
-}
-
-void TrackedMotion::startPoints(EkfState& state, const std::vector<cv::Mat>& pyramid) {
-  for (const Feature& f : tracker_.features()) {
-    if (static_cast<int>(points_.size()) >= options_.points) break;
-    if (points_.count(f.id) || refused_.count(f.id)) continue;
-    const StateBlock block = inverseDepthFeature(state, camera_, Vec2(f.uv.x, f.uv.y), options_.point_pixel_sigma,
-                                                 options_.point_rho, options_.point_rho_sigma);
-    state.appendToTail(block.value, block.P_block, block.P_block_rest);
-    tail_.push_back({true, f.id, static_cast<int>(block.value.size())});
-    points_[f.id] = {frame_, f.uv, rotationFromQuat(state.q())};
-    anchors_.emplace(frame_, pyramid);
-    seen_.erase(f.id);  // its observations are the point's from now on
-  }
-  // First views no point is anchored in any more.
-  for (auto it = anchors_.begin(); it != anchors_.end();) {
-    const bool used = std::any_of(points_.begin(), points_.end(), [&](const auto& p) { return p.second.anchor == it->first; });
-    it = used ? std::next(it) : anchors_.erase(it);
-  }
 }
 
 MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
                                   bool anchored) {
   MsckfResult result;
   if (!options_.enabled) return result;
-  int tail_dim = 0;
-  for (const TailBlock& b : tail_) tail_dim += b.dim;
-  if (state.tailSize() != tail_dim) reset(state);  // the filter restarted
+  if (!tail_.matches(state)) reset(state);  // the filter restarted
   const bool tracked = !clones_.empty() && !tracker_.features().empty();
   if (tracked) {
     // Where the filter's rotation since the last clone puts each feature (at infinity): a fast
     // turn moves the image beyond the pyramid's reach.
-    const int last = cloneOffset(state, clones_.back());
+    const int last = tail_.offset(state, kClone, clones_.back());
     const Mat3 R_current_last = rotationFromQuat(state.q()).transpose() *
                                 rotationFromQuat(state.x().segment<4>(last + 3));
     std::vector<cv::Point2f> predicted;
@@ -170,15 +62,18 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
       predicted.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
     }
     tracker_.track(pyramid_previous_, pyramid, lk_window_, lk_levels_, &predicted);
+    points_.forget(tracker_.ended());
   } else {
     tracker_.clear();
   }
-  measurePoints(state, pyramid);
+  points_.measure(state, tail_, tracker_.features(), pyramid);
+  for (const int clone : clones_)  // the points' update moved them through their correlations
+    state.renormaliseQuaternion(tail_.offset(state, kClone, clone) + 3);
   cloneCameraPose(state);
   clones_.push_back(next_clone_++);
-  tail_.push_back({false, clones_.back(), kCloneDim});
+  tail_.push(kClone, clones_.back(), kCloneDim);
   for (const Feature& f : tracker_.features())
-    if (!points_.count(f.id)) seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
+    if (!points_.holds(f.id)) seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
 
   // The tracks that ended, and those as long as the window (their next frame would lose the
   // oldest clone). A track that goes on starts its next stretch at its last observation: each
@@ -188,7 +83,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
   const auto use = [&](std::vector<std::pair<int, Vec2>>& seen) {
     if (static_cast<int>(seen.size()) < options_.min_track_length) return;
     std::vector<CloneObservation> track;
-    for (const auto& [clone, uv] : seen) track.push_back({cloneOffset(state, clone), uv});
+    for (const auto& [clone, uv] : seen) track.push_back({tail_.offset(state, kClone, clone), uv});
     tracks.push_back(std::move(track));
   };
   for (int id : tracked ? tracker_.ended() : std::vector<int>{}) {  // ended(): since the last track()
@@ -198,7 +93,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     seen_.erase(it);
   }
   for (const Feature& f : tracker_.features()) {
-    if (points_.count(f.id)) continue;
+    if (points_.holds(f.id)) continue;
     std::vector<std::pair<int, Vec2>>& seen = seen_[f.id];
     if (static_cast<int>(seen.size()) < options_.window) continue;
     use(seen);
@@ -208,7 +103,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     result = msckfUpdate(state, camera_, tracks, options_.msckf());
 
   if (static_cast<int>(clones_.size()) >= options_.window) {
-    removeBlock(state, false, clones_.front());
+    tail_.remove(state, kClone, clones_.front());
     clones_.pop_front();
   }
   const size_t before = tracker_.features().size();
@@ -217,8 +112,8 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     const Feature& f = tracker_.features()[k];
     seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
   }
-  startPoints(state, pyramid);
-  ++frame_;
+  for (const int id : points_.start(state, tail_, tracker_.features(), pyramid))
+    seen_.erase(id);  // its observations are the point's from now on
   pyramid_previous_ = pyramid;  // shares the images
   return result;
 }

@@ -2,19 +2,16 @@
 // Many image features tracked from frame to frame as a measurement of the hybrid filter: Shi-Tomasi
 // features tracked by pyramidal Lucas-Kanade, used two ways.
 // - The window (ekf/msckf_update.h): each camera pose of a sliding window is cloned into the
-//   state, and every stretch of a track that ends (lost, or as long as the window) is used in an
-//   MSCKF update of the window's poses. A track that goes on starts its next stretch at the last
-//   observation of the one used, as frame-to-frame odometry does: that observation is in two
+//   state's tail, and every stretch of a track that ends (lost, or as long as the window) is used
+//   in an MSCKF update of the window's poses. A track that goes on starts its next stretch at the
+//   last observation of the one used, as frame-to-frame odometry does: that observation is in two
 //   updates, whose noise the filter takes as independent (pixel_sigma, set from the runs, absorbs
 //   it). Two close views leave a turn traded against a step across the view, the mode the board
 //   leaves open too.
-// - Points: a score of tracks are held in the state as inverse-depth points, measured in every
-//   frame from the image they were first seen in. Their depths, learnt over the whole track, tell
-//   the turn from the step, and they carry the filter where the board leaves.
+// - Points (tracked_points.h): a score of the tracks held in the state's tail as inverse-depth
+//   points and measured in every frame; their tracks are not in the window.
 #include <deque>
-#include <map>
 #include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -23,6 +20,8 @@
 #include "core/camera.h"
 #include "ekf/ekf_state.h"
 #include "ekf/msckf_update.h"
+#include "hybrid/tail_layout.h"
+#include "hybrid/tracked_points.h"
 #include "tracking/feature_tracker.h"
 
 namespace slamcmp {
@@ -51,23 +50,18 @@ struct TrackedMotionOptions {
   // and wall_turn): better on some runs, worse on others (board_leaves seed 3 NEES 5-11).
   bool without_board = false;
   FeatureTrackerOptions tracks{80, 50};  // at most 80 tracked, replenished below 50
-  // Tracks kept in the state as points in inverse depth (Civera 2008), anchored where they were
-  // first seen and measured in every frame they are tracked (OpenVINS's SLAM features); their
-  // tracks are not in the window's updates. New ones start on tracks that are none while fewer
-  // are held.
+  // Tracks held as points (tracked_points.h), started on tracks that are none while fewer are held.
   int points = 20;
   double point_pixel_sigma = 0.3;  // pixels, a point's measurement noise per coordinate
   double point_rho = 1.0;          // 1/m, a new point's inverse depth (1 m) ...
   double point_rho_sigma = 1.0;    // 1/m, ... and its std: from 0.33 m to beyond infinity at 2 sigma
-  // A point is measured by Lucas-Kanade from the image where it was first seen, started at its
-  // track: a chain of frame-to-frame steps drifts (0.06 px rms off a fixed point over tv1), which
-  // a point held for hundreds of frames takes for motion. Where the two disagree by more than
-  // this, or the first view no longer matches, the point starts again on its track.
+  // A point is measured by Lucas-Kanade from the image it started in, begun where its track is
+  // now. Where the two disagree by more than this, it starts again on its track.
   double point_max_anchor_px = 1.0;
-  // Lucas-Kanade shifts a patch; it neither scales nor turns it: a point whose first view's patch,
+  // Lucas-Kanade shifts a patch; it neither scales nor turns it: a point whose first image's patch,
   // scaled by the change of its distance and turned by the roll since, would move its window's
   // corners by more than this starts again (held through tv3's zoom, points were 0.4 px off a
-  // fixed point).
+  // fixed point and tv3's error went 0.76 -> 1.65 mm).
   double point_max_deformation_px = 0.4;
   template <class V>
   void visit(V& v) {
@@ -75,7 +69,8 @@ struct TrackedMotionOptions {
     v("window", window, "camera poses held in the state for the tracks, the current one's included");
     v("min_track_length", min_track_length, "a track seen in fewer frames is not used");
     v("pixel_sigma", pixel_sigma, "a tracked point's noise per coordinate, pixels");
-    v("gate_probability", gate_probability, "chi-squared test of a track's residual: it is left out beyond this quantile");
+    v("gate_probability", gate_probability,
+      "chi-squared test of a track's residual, and of a point's innovation: it is left out beyond this quantile");
     v("min_parallax_deg", min_parallax_deg, "a track whose first and last rays are closer than this is not triangulated, degrees");
     v("max_triangulation_px", max_triangulation_px, "a triangulated track missing one of its frames by more is left out, pixels");
     v("without_board", without_board, "also update the frames in which no board corner is measured");
@@ -92,6 +87,10 @@ struct TrackedMotionOptions {
   }
   void check() const;
   MsckfOptions msckf() const { return {pixel_sigma, gate_probability, min_parallax_deg, max_triangulation_px}; }
+  TrackedPointsOptions pointOptions() const {
+    return {points, point_pixel_sigma, point_rho, point_rho_sigma, point_max_anchor_px, point_max_deformation_px,
+            gate_probability};
+  }
 };
 
 class TrackedMotion {
@@ -103,50 +102,25 @@ class TrackedMotion {
   // `grey` (its `pyramid`; started where the filter's rotation since the last clone puts them),
   // the points measured, the camera cloned, the tracks that ended used in one update, the oldest
   // clone dropped from the window, the tracks replenished, new points started. The points are
-  // measured in every frame. Only frames `anchored` by the board are updated (unless
-  // without_board): without it the tracks' constraints are blind to the scale.
+  // measured in every frame, the window updates only frames `anchored` by the board (unless
+  // without_board): without it two close views are blind to the scale.
   MsckfResult update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
-  // The tracks start again, and the clones still in the state's tail are dropped (none after the
-  // filter restarted; a relocated camera's are stale).
+  // The tracks start again, and the clones and points still in the state's tail are dropped (none
+  // after the filter restarted; a relocated camera's are stale).
   void reset(EkfState& state);
 
  private:
-  // The state's tail, in order: cloned poses (by number) and tracked points (by track id).
-  struct TailBlock {
-    bool point = false;
-    int id = 0;
-    int dim = 0;
-  };
-  int offsetOf(const EkfState& state, bool point, int id) const;
-  void removeBlock(EkfState& state, bool point, int id);
-  int cloneOffset(const EkfState& state, int clone) const { return offsetOf(state, false, clone); }
-  // The tracked points measured where their tracks are now (gated one by one), those whose track
-  // ended or that failed dropped.
-  void measurePoints(EkfState& state, const std::vector<cv::Mat>& pyramid);
-  void startPoints(EkfState& state, const std::vector<cv::Mat>& pyramid);
-  struct TrackedPoint {
-    int anchor = 0;          // the frame it was first seen in (anchors_)
-    cv::Point2f anchor_uv;   // where
-    Mat3 R_world_first;      // the camera's orientation then
-  };
-  // Pixels by which the point's first-view patch, seen now, departs from a shift at the corners of
-  // a window of that half diagonal.
-  double patchDeformation(const EkfState& state, int offset, const TrackedPoint& point, double half_diagonal) const;
-
   CameraModel camera_;
   TrackedMotionOptions options_;
   cv::Size lk_window_;
   int lk_levels_;
   FeatureTracker tracker_;
   std::vector<cv::Mat> pyramid_previous_;
-  std::deque<int> clones_;  // the window's clones, oldest first, by number (the state's tail, in order)
+  TailLayout tail_;
+  std::deque<int> clones_;  // the window's clones, oldest first, by number
   int next_clone_ = 0;
   std::unordered_map<int, std::vector<std::pair<int, Vec2>>> seen_;  // feature id -> (clone, uv) since its last use
-  std::vector<TailBlock> tail_;
-  std::unordered_map<int, TrackedPoint> points_;  // by track id
-  std::map<int, std::vector<cv::Mat>> anchors_;   // frame number -> its pyramid, while points are anchored there
-  int frame_ = 0;
-  std::unordered_set<int> refused_;  // track ids whose point failed its gate
+  TrackedPoints points_;
 };
 
 }  // namespace slamcmp
