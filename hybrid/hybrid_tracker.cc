@@ -161,6 +161,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
   if (!camera_ && !calibrate(frame, &result)) return result;
   FrameMeasurement measurement;
   BoardCornerMeasurement board;
+  int points_measured = 0;  // tracked points (tracked_motion.h), when on
   if (!running_) {
     std::string reason;
     if (!start(frame, &board, &reason)) {
@@ -199,7 +200,8 @@ FrameResult HybridTracker::track(const Frame& frame) {
     // there: off, it costs nothing).
     {
       const StageTimer timer(&result.stages, "tracks");
-      motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty());
+      points_measured = motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty())
+                            .points_measured;
     }
     {
       const StageTimer timer(&result.stages, "map");
@@ -215,7 +217,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
       return result;
     }
   }
-  result.measured = measurement.matched + static_cast<int>(board.observations.size());
+  result.measured = measurement.matched + static_cast<int>(board.observations.size()) + points_measured;
   result.features = static_cast<int>(slam_->features().size());
   const std::string weak = reporting_.weakness(result.measured, !board.observations.empty(), slam_->state());
   if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting

@@ -43,9 +43,9 @@ void TrackedMotion::reset(EkfState& state) {
   points_.clear();
 }
 
-MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
+TrackedMotionResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
                                   bool anchored) {
-  MsckfResult result;
+  TrackedMotionResult result;
   if (!options_.enabled) return result;
   if (!tail_.matches(state)) reset(state);  // the filter restarted
   const bool tracked = !clones_.empty() && !tracker_.features().empty();
@@ -66,7 +66,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
   } else {
     tracker_.clear();
   }
-  points_.measure(state, tail_, tracker_.features(), pyramid);
+  result.points_measured = points_.measure(state, tail_, tracker_.features(), pyramid);
   for (const int clone : clones_)  // the points' update moved them through their correlations
     state.renormaliseQuaternion(tail_.offset(state, kClone, clone) + 3);
   cloneCameraPose(state);
@@ -100,7 +100,7 @@ MsckfResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const st
     seen.erase(seen.begin(), seen.end() - 1);
   }
   if ((anchored || options_.without_board) && !tracks.empty())
-    result = msckfUpdate(state, camera_, tracks, options_.msckf());
+    result.window = msckfUpdate(state, camera_, tracks, options_.msckf());
 
   if (static_cast<int>(clones_.size()) >= options_.window) {
     tail_.remove(state, kClone, clones_.front());

@@ -28,10 +28,11 @@ namespace slamcmp {
 
 struct TrackedMotionOptions {
   // Off by default. Full presets, seed 1 (README): the tracks with their points lower hybrid's
-  // error on 10 of 14 runs (tv1 0.68 -> 0.42 mm, board_leaves seed 2 2.18 -> 0.88, wall_turn seed
-  // 2 3.11 -> 0.72) and carry it through the board's departure where the dozen patch features did
-  // not, but roll_distortion goes from 0.20 to 0.49 mm and board_leaves seed 3 from 3.7 to 4.4,
-  // and a frame costs about 1.5 ms more.
+  // error with the board in view (tv1 0.68 -> 0.42 mm, tv2 0.73 -> 0.39), carry it through the
+  // board's departure where the dozen patch features did not (board_leaves seed 2 2.18 -> 0.81),
+  // and pose the frames facing another wall (wall_turn, 1.3-1.6 % of the path off), but
+  // roll_distortion goes from 0.20 to 0.72 mm and board_leaves seed 3 from 3.7 to 4.4, and a frame
+  // costs about twice as much.
   bool enabled = false;
   // Camera poses cloned in the state, the current one's included. 2, each frame-to-frame step of
   // every track used in the frame it is made, did best: with 8 (ATE tv1..tv4 0.64 / 0.70 / 0.88 /
@@ -93,6 +94,11 @@ struct TrackedMotionOptions {
   }
 };
 
+struct TrackedMotionResult {
+  MsckfResult window;
+  int points_measured = 0;
+};
+
 class TrackedMotion {
  public:
   // Tracks by Lucas-Kanade over pyramids built for lk_window and lk_levels.
@@ -104,7 +110,7 @@ class TrackedMotion {
   // clone dropped from the window, the tracks replenished, new points started. The points are
   // measured in every frame, the window updates only frames `anchored` by the board (unless
   // without_board): without it two close views are blind to the scale.
-  MsckfResult update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
+  TrackedMotionResult update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
   // The tracks start again, and the clones and points still in the state's tail are dropped (none
   // after the filter restarted; a relocated camera's are stale).
   void reset(EkfState& state);

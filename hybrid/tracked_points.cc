@@ -32,7 +32,7 @@ double TrackedPoints::patchDeformation(const EkfState& state, int offset, const 
   return (std::abs(scale - 1) + std::abs(roll)) * half_diagonal;
 }
 
-void TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
+int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
                             const std::vector<cv::Mat>& pyramid) {
   // Where each track is now, for the points that still look like their first image.
   const double half_diagonal = 0.5 * std::hypot(lk_window_.width, lk_window_.height);
@@ -89,11 +89,12 @@ void TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector
     }
     observations.push_back(o);
   }
-  if (!observations.empty()) batchUpdate(state, observations, options_.pixel_sigma);
+  if (!observations.empty() && !batchUpdate(state, observations, options_.pixel_sigma)) observations.clear();
   for (const int id : drop) {
     tail.remove(state, kPoint, id);
     points_.erase(id);
   }
+  return static_cast<int>(observations.size());
 }
 
 std::vector<int> TrackedPoints::start(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,

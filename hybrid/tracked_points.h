@@ -40,8 +40,8 @@ class TrackedPoints {
   // The points measured where this frame's tracks (`features`, in `pyramid`) and their first
   // images put them, gated one by one and updated together. Removed: those whose track ended,
   // those that no longer look like their first image (they start again), those failing the gate
-  // (a track gone astray or a moving point: never started again).
-  void measure(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
+  // (a track gone astray or a moving point: never started again). Returns how many were measured.
+  int measure(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
                const std::vector<cv::Mat>& pyramid);
   // New points on tracks that are none, while fewer than max_points are held. Returns their ids.
   std::vector<int> start(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
