@@ -200,8 +200,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
     // there: off, it costs nothing).
     {
       const StageTimer timer(&result.stages, "tracks");
-      points_measured = motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty())
-                            .points_measured;
+      points_measured = motion_->update(slam_->state(), frame.grey, corners_->pyramid(), !board.observations.empty());
     }
     {
       const StageTimer timer(&result.stages, "map");

@@ -12,12 +12,8 @@ void TrackedMotionOptions::check() const {
   if (!(gate_probability > 0 && gate_probability < 1)) throw OptionError("gate_probability", "must be in (0, 1)");
   if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw OptionError("min_parallax_deg", "must be in [0, 90)");
   if (!(max_triangulation_px > 0)) throw OptionError("max_triangulation_px", "must be positive");
-  if (points < 0 || points > tracks.max_features) throw OptionError("points", "must be in [0, tracks.max_features]");
-  if (!(point_pixel_sigma > 0)) throw OptionError("point_pixel_sigma", "must be positive");
-  if (!(point_rho >= 0 && point_rho < 1e3)) throw OptionError("point_rho", "must be in [0, 1000)");
-  if (!(point_rho_sigma > 0 && point_rho_sigma < 1e3)) throw OptionError("point_rho_sigma", "must be in (0, 1000)");
-  if (!(point_max_anchor_px > 0)) throw OptionError("point_max_anchor_px", "must be positive");
-  if (!(point_max_deformation_px > 0)) throw OptionError("point_max_deformation_px", "must be positive");
+  if (points.max > tracks.max_features) throw OptionError("points.max", "must be at most tracks.max_features");
+  points.check();
   tracks.check();
 }
 
@@ -32,7 +28,7 @@ TrackedMotion::TrackedMotion(const CameraModel& camera, const TrackedMotionOptio
       lk_window_(lk_window),
       lk_levels_(lk_levels),
       tracker_(options.tracks),
-      points_(camera, options.pointOptions(), lk_window, lk_levels) {}
+      points_(camera, options.points, options.gate_probability, lk_window, lk_levels) {}
 
 void TrackedMotion::reset(EkfState& state) {
   tail_.clear(state);
@@ -43,10 +39,9 @@ void TrackedMotion::reset(EkfState& state) {
   points_.clear();
 }
 
-TrackedMotionResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
+int TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid,
                                   bool anchored) {
-  TrackedMotionResult result;
-  if (!options_.enabled) return result;
+  if (!options_.enabled) return 0;
   if (!tail_.matches(state)) reset(state);  // the filter restarted
   const bool tracked = !clones_.empty() && !tracker_.features().empty();
   if (tracked) {
@@ -66,7 +61,7 @@ TrackedMotionResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, 
   } else {
     tracker_.clear();
   }
-  result.points_measured = points_.measure(state, tail_, tracker_.features(), pyramid);
+  const int points_measured = points_.measure(state, tail_, tracker_.features(), pyramid);
   for (const int clone : clones_)  // the points' update moved them through their correlations
     state.renormaliseQuaternion(tail_.offset(state, kClone, clone) + 3);
   cloneCameraPose(state);
@@ -100,7 +95,7 @@ TrackedMotionResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, 
     seen.erase(seen.begin(), seen.end() - 1);
   }
   if ((anchored || options_.without_board) && !tracks.empty())
-    result.window = msckfUpdate(state, camera_, tracks, options_.msckf());
+    msckfUpdate(state, camera_, tracks, options_.msckf());
 
   if (static_cast<int>(clones_.size()) >= options_.window) {
     tail_.remove(state, kClone, clones_.front());
@@ -115,7 +110,7 @@ TrackedMotionResult TrackedMotion::update(EkfState& state, const cv::Mat& grey, 
   for (const int id : points_.start(state, tail_, tracker_.features(), pyramid))
     seen_.erase(id);  // its observations are the point's from now on
   pyramid_previous_ = pyramid;  // shares the images
-  return result;
+  return points_measured;
 }
 
 }  // namespace slamcmp

@@ -52,18 +52,7 @@ struct TrackedMotionOptions {
   bool without_board = false;
   FeatureTrackerOptions tracks{80, 50};  // at most 80 tracked, replenished below 50
   // Tracks held as points (tracked_points.h), started on tracks that are none while fewer are held.
-  int points = 20;
-  double point_pixel_sigma = 0.3;  // pixels, a point's measurement noise per coordinate
-  double point_rho = 1.0;          // 1/m, a new point's inverse depth (1 m) ...
-  double point_rho_sigma = 1.0;    // 1/m, ... and its std: from 0.33 m to beyond infinity at 2 sigma
-  // A point is measured by Lucas-Kanade from the image it started in, begun where its track is
-  // now. Where the two disagree by more than this, it starts again on its track.
-  double point_max_anchor_px = 1.0;
-  // Lucas-Kanade shifts a patch; it neither scales nor turns it: a point whose first image's patch,
-  // scaled by the change of its distance and turned by the roll since, would move its window's
-  // corners by more than this starts again (held through tv3's zoom, points were 0.4 px off a
-  // fixed point and tv3's error went 0.76 -> 1.65 mm).
-  double point_max_deformation_px = 0.4;
+  TrackedPointsOptions points;
   template <class V>
   void visit(V& v) {
     v("enabled", enabled, "update the filter with features tracked over a sliding window of cloned poses (MSCKF) and as points");
@@ -76,27 +65,10 @@ struct TrackedMotionOptions {
     v("max_triangulation_px", max_triangulation_px, "a triangulated track missing one of its frames by more is left out, pixels");
     v("without_board", without_board, "also update the frames in which no board corner is measured");
     v("tracks", tracks, "the tracked Shi-Tomasi features");
-    v("points", points, "tracks kept in the state as inverse-depth points, measured every frame (0: none)");
-    v("point_pixel_sigma", point_pixel_sigma, "pixels, a tracked point's measurement noise per coordinate");
-    v("point_rho", point_rho, "1/m, a new tracked point's inverse depth");
-    v("point_rho_sigma", point_rho_sigma, "1/m, std of a new tracked point's inverse depth");
-    v("point_max_anchor_px", point_max_anchor_px,
-      "pixels; a point found from its first view this far from its track starts again");
-    v("point_max_deformation_px", point_max_deformation_px,
-      "pixels; a point whose first view, scaled and turned as the camera moved since, moves its window's corners "
-      "this much starts again");
+    v("points", points, "tracks held in the state as inverse-depth points (tracked_points.h)");
   }
   void check() const;
   MsckfOptions msckf() const { return {pixel_sigma, gate_probability, min_parallax_deg, max_triangulation_px}; }
-  TrackedPointsOptions pointOptions() const {
-    return {points, point_pixel_sigma, point_rho, point_rho_sigma, point_max_anchor_px, point_max_deformation_px,
-            gate_probability};
-  }
-};
-
-struct TrackedMotionResult {
-  MsckfResult window;
-  int points_measured = 0;
 };
 
 class TrackedMotion {
@@ -109,8 +81,9 @@ class TrackedMotion {
   // the points measured, the camera cloned, the tracks that ended used in one update, the oldest
   // clone dropped from the window, the tracks replenished, new points started. The points are
   // measured in every frame, the window updates only frames `anchored` by the board (unless
-  // without_board): without it two close views are blind to the scale.
-  TrackedMotionResult update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
+  // without_board): without it two close views are blind to the scale. Returns how many points
+  // were measured.
+  int update(EkfState& state, const cv::Mat& grey, const std::vector<cv::Mat>& pyramid, bool anchored);
   // The tracks start again, and the clones and points still in the state's tail are dropped (none
   // after the filter restarted; a relocated camera's are stale).
   void reset(EkfState& state);

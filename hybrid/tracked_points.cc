@@ -5,6 +5,7 @@
 
 #include <opencv2/video/tracking.hpp>
 
+#include "core/error.h"
 #include "ekf/ekf_update.h"
 #include "ekf/inverse_depth.h"
 #include "ekf/joint_compatibility.h"
@@ -15,9 +16,22 @@ namespace {
 constexpr TailLayout::Kind kPoint = TailLayout::Kind::kPoint;
 }  // namespace
 
-TrackedPoints::TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, cv::Size lk_window,
-                             int lk_levels)
-    : camera_(camera), options_(options), lk_window_(lk_window), lk_levels_(lk_levels) {}
+void TrackedPointsOptions::check() const {
+  if (max < 0) throw OptionError("max", "must not be negative");
+  if (!(pixel_sigma > 0)) throw OptionError("pixel_sigma", "must be positive");
+  if (!(rho >= 0 && rho < 1e3)) throw OptionError("rho", "must be in [0, 1000)");
+  if (!(rho_sigma > 0 && rho_sigma < 1e3)) throw OptionError("rho_sigma", "must be in (0, 1000)");
+  if (!(max_anchor_px > 0)) throw OptionError("max_anchor_px", "must be positive");
+  if (!(max_deformation_px > 0)) throw OptionError("max_deformation_px", "must be positive");
+}
+
+TrackedPoints::TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, double gate_probability,
+                             cv::Size lk_window, int lk_levels)
+    : camera_(camera),
+      options_(options),
+      gate_(chiSquaredQuantile(2, gate_probability)),
+      lk_window_(lk_window),
+      lk_levels_(lk_levels) {}
 
 double TrackedPoints::patchDeformation(const EkfState& state, int offset, const Point& point,
                                        double half_diagonal) const {
@@ -68,7 +82,6 @@ int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<
   }
   std::vector<int> drop;
   std::vector<PointObservation> observations;
-  const double gate = chiSquaredQuantile(2, options_.gate_probability);
   for (const auto& entry : points_) {
     const int id = entry.first;
     const auto it = found.find(id);
@@ -82,7 +95,7 @@ int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<
     o.z = it->second;
     const Vec2 nu = o.z - o.h.uv_distorted;
     const Mat2 S = pointInnovationCovariance(state, o.h, o.offset, options_.pixel_sigma);
-    if (nu.dot(S.ldlt().solve(nu)) > gate) {
+    if (nu.dot(S.ldlt().solve(nu)) > gate_) {
       drop.push_back(id);
       refused_.insert(id);  // not a point again (its steps still go to the window, gated there)
       continue;
@@ -101,7 +114,7 @@ std::vector<int> TrackedPoints::start(EkfState& state, TailLayout& tail, const s
                                       const std::vector<cv::Mat>& pyramid) {
   std::vector<int> started;
   for (const Feature& f : features) {
-    if (static_cast<int>(points_.size()) >= options_.max_points) break;
+    if (static_cast<int>(points_.size()) >= options_.max) break;
     if (holds(f.id) || refused_.count(f.id)) continue;
     const StateBlock block = inverseDepthFeature(state, camera_, Vec2(f.uv.x, f.uv.y), options_.pixel_sigma,
                                                  options_.rho, options_.rho_sigma);

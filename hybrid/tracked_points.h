@@ -24,18 +24,35 @@
 namespace slamcmp {
 
 struct TrackedPointsOptions {
-  int max_points = 20;
-  double pixel_sigma = 0.3;         // a point's measurement noise per coordinate
-  double rho = 1.0;                 // 1/m, a new point's inverse depth
-  double rho_sigma = 1.0;           // 1/m, its std
-  double max_anchor_px = 1.0;       // found from its first image this far from its track: it starts again
-  double max_deformation_px = 0.4;  // its first image's patch deformed this much at the window's corners: likewise
-  double gate_probability = 0.99;   // chi-squared test of each point's innovation
+  int max = 20;                     // points held at most (0: none)
+  double pixel_sigma = 0.3;         // pixels, a point's measurement noise per coordinate
+  double rho = 1.0;                 // 1/m, a new point's inverse depth (1 m) ...
+  double rho_sigma = 1.0;           // 1/m, ... and its std: from 0.33 m to beyond infinity at 2 sigma
+  // Found from its first image farther than this from its track, a point starts again on it.
+  double max_anchor_px = 1.0;
+  // Likewise when its first image's patch, scaled by the change of its distance and turned by the
+  // roll since, would move its window's corners by more than this (held through tv3's zoom, points
+  // were 0.4 px off a fixed point and tv3's error went 0.76 -> 1.65 mm).
+  double max_deformation_px = 0.4;
+  template <class V>
+  void visit(V& v) {
+    v("max", max, "tracks kept in the state as inverse-depth points, measured every frame (0: none)");
+    v("pixel_sigma", pixel_sigma, "pixels, a point's measurement noise per coordinate");
+    v("rho", rho, "1/m, a new point's inverse depth");
+    v("rho_sigma", rho_sigma, "1/m, std of a new point's inverse depth");
+    v("max_anchor_px", max_anchor_px, "pixels; a point found from its first image this far from its track starts again");
+    v("max_deformation_px", max_deformation_px,
+      "pixels; a point whose first image, scaled and turned as the camera moved since, moves its window's corners "
+      "this much starts again");
+  }
+  void check() const;
 };
 
 class TrackedPoints {
  public:
-  TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, cv::Size lk_window, int lk_levels);
+  // Each point's innovation is gated at gate_probability (chi-squared, 2 dof).
+  TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, double gate_probability,
+                cv::Size lk_window, int lk_levels);
 
   // The points measured where this frame's tracks (`features`, in `pyramid`) and their first
   // images put them, gated one by one and updated together. Removed: those whose track ended,
@@ -63,6 +80,7 @@ class TrackedPoints {
 
   CameraModel camera_;
   TrackedPointsOptions options_;
+  double gate_;  // chi-squared, 2 dof
   cv::Size lk_window_;
   int lk_levels_;
   std::unordered_map<int, Point> points_;            // by track id

@@ -171,7 +171,7 @@ TEST(HybridTracker, PartialBoardIsAsGoodAsTheWholeBoard) {
     SCOPED_TRACE(v.name);
     HybridOptions options;
     options.tracked_motion.enabled = v.tracks;
-    options.tracked_motion.points = v.points;
+    options.tracked_motion.points.max = v.points;
     const TrackedRun run = runOn(path, -1, true, options);
     const double full = run.rmsWhere([&](const FrameScore& f) { return f.corners_in_view == run.corners; });
     const double partial = run.rmsWhere([&](const FrameScore& f) {
