@@ -22,6 +22,12 @@ void MotionModelOptions::check() const {
   require(default_dt > 0, "default_dt", "must be positive, got " + std::to_string(default_dt));
 }
 
+void AdaptiveMotionOptions::check() const {
+  require(time_constant > 0 && time_constant < 1e6, "time_constant", "must be in (0, 1e6) s");
+  require(min_sigma_a > 0, "min_sigma_a", "must be positive");
+  require(min_sigma_alpha > 0, "min_sigma_alpha", "must be positive");
+}
+
 void ActiveSearchOptions::check() const {
   require(patch_size >= 3 && patch_size % 2 == 1, "patch_size",
           "must be odd and at least 3, got " + std::to_string(patch_size));

@@ -18,11 +18,32 @@ namespace slamcmp {
 // (its 4 and 6 are for a hand-held camera): the slow synthetic and tripod sequences stay tracked,
 // search ellipses shrink about twofold (tv1..tv4 ~10x faster) and fewer false peaks fall inside
 // them (board_leaves: ATE 30 cm -> 7 mm; tv3 5.8 -> 2.4 mm; tv1, tv4, vamr within 0.6 mm).
+// The motion noise estimated from the filter's own velocity corrections (covariance matching,
+// ekf/adaptive_motion_noise.h): sigma_a and sigma_alpha are where it starts and the most it takes;
+// it falls towards what the camera's accelerations show, no lower than the floors.
+struct AdaptiveMotionOptions {
+  bool enabled = false;
+  // s, of the running mean of the velocity corrections: short, for a hand-held camera's bursts
+  // (vamr_checkerboard: 1.4 mm with 0.5 s, 1.7 mm with 2 s, beside a floor of 0.5).
+  double time_constant = 0.5;
+  double min_sigma_a = 0.1;     // m/s^2 at the reference rate
+  double min_sigma_alpha = 0.1; // rad/s^2 at the reference rate
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled, "estimate sigma_a, sigma_alpha (at most their set values) from the velocity corrections");
+    v("time_constant", time_constant, "s, time constant of the running mean of the velocity corrections");
+    v("min_sigma_a", min_sigma_a, "m/s^2, the least linear acceleration noise it takes");
+    v("min_sigma_alpha", min_sigma_alpha, "rad/s^2, the least angular acceleration noise it takes");
+  }
+  void check() const;
+};
+
 struct MotionModelOptions {
   double sigma_a = 2.0;           // m/s^2, linear acceleration noise at the reference rate
   double sigma_alpha = 3.0;       // rad/s^2, angular acceleration noise at the reference rate
   double reference_rate = 30.0;   // Hz, the frame rate sigma_a and sigma_alpha are defined at
   double default_dt = 1.0 / 30;   // s, used when timestamps do not increase
+  AdaptiveMotionOptions adaptive;
   template <class V>
   void visit(V& v) {
     v("sigma_a", sigma_a, "m/s^2, linear acceleration noise at reference_rate");
@@ -30,6 +51,7 @@ struct MotionModelOptions {
     v("reference_rate", reference_rate,
       "Hz; impulse std = sigma * sqrt(dt / reference_rate) (white-noise acceleration)");
     v("default_dt", default_dt, "s, frame interval when timestamps do not increase");
+    v("adaptive", adaptive, "motion noise estimated from the filter's velocity corrections");
   }
   void check() const;
 };

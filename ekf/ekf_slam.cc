@@ -39,6 +39,7 @@ EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool 
 
 void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
   state_.reset(T_world_camera, P_camera);
+  motion_noise_.restart();
   features_.clear();
 }
 
@@ -54,7 +55,8 @@ bool EkfSlam::addKnownPoint(const cv::Mat& grey, const Vec2& uv, const Vec3& p_w
 }
 
 void EkfSlam::predict(double dt) {
-  slamcmp::predict(state_, dt > 0 ? dt : options_.motion.default_dt, options_.motion);
+  const double step = dt > 0 ? dt : options_.motion.default_dt;
+  slamcmp::predict(state_, step, motion_noise_.next(state_, step));
 }
 
 FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
@@ -242,6 +244,7 @@ void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13
   P.topRows<EkfState::kCameraDim>().setZero();
   P.leftCols<EkfState::kCameraDim>().setZero();
   P.topLeftCorner<EkfState::kCameraDim, EkfState::kCameraDim>() = P_camera;
+  motion_noise_.restart();
 }
 
 std::vector<MapPoint> EkfSlam::mapPoints() const {

@@ -16,6 +16,7 @@
 #include "core/frame_overlay.h"
 #include "core/target.h"
 #include "core/tracker.h"
+#include "ekf/adaptive_motion_noise.h"
 #include "ekf/ekf_options.h"
 #include "ekf/ekf_state.h"
 #include "ekf/frame_measurement.h"
@@ -63,8 +64,10 @@ class EkfSlam {
   // around uv. False if the template cannot be cut there.
   bool addKnownPoint(const cv::Mat& grey, const Vec2& uv, const Vec3& p_world, const Vec3& normal_world);
 
-  // The motion model over dt seconds (default_dt when dt is not positive).
+  // The motion model over dt seconds (default_dt when dt is not positive), its noise adapted to
+  // the filter's velocity corrections when motion.adaptive is on.
   void predict(double dt);
+  const MotionModelOptions& motion() const { return motion_noise_.current(); }
   // Active search of the map's points and their update (frame_measurement.h).
   FrameMeasurement measure(const cv::Mat& grey);
   // Depth particles of the initialising rays weighted in this frame; converged rays become points,
@@ -116,6 +119,7 @@ class EkfSlam {
   bool inverse_depth_ = false;  // new features in inverse depth, not depth particles
   bool ransac_ = false;         // 1-point RANSAC instead of joint compatibility
   EkfState state_;
+  AdaptiveMotionNoise motion_noise_{options_.motion};
   std::vector<MapFeature> features_;
   int next_id_ = 0;
   int protected_below_ = 0;

@@ -1,0 +1,111 @@
+// The motion noise estimated from the filter's velocity corrections (ekf/adaptive_motion_noise.h),
+// on a simulation of the constant-velocity model with known impulses: a camera whose position
+// and orientation are measured each frame (1 mm, 0.001 per quaternion component) by a filter
+// that starts with ten times the true noise.
+#include "ekf/adaptive_motion_noise.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "ekf/ekf_update.h"
+#include "ekf/motion_model.h"
+
+namespace slamcmp {
+namespace {
+
+constexpr double kDt = 0.1;  // 10 fps, the presets' rate
+
+class Simulation {
+ public:
+  explicit Simulation(const MotionModelOptions& filter) : noise_(filter) {
+    truth_ << 0, 0, -1, 1, 0, 0, 0, 0.1, 0, 0, 0, 0.2, 0;
+    Mat13 P0 = Mat13::Zero();
+    P0.diagonal() << Vec3::Constant(1e-6), Vec4::Constant(1e-6), Vec3::Constant(1e-2), Vec3::Constant(1e-2);
+    state_.reset(SE3(), P0);
+    state_.x().head<13>() = truth_;
+  }
+
+  // One frame of the truth with impulses of the given sigmas, then the filter's predict and update.
+  void step(double sigma_a, double sigma_alpha) {
+    MotionModelOptions truth;
+    truth.sigma_a = sigma_a;
+    truth.sigma_alpha = sigma_alpha;
+    const Eigen::Matrix<double, 6, 6> Q = impulseCovariance(truth, kDt);
+    Eigen::Matrix<double, 6, 1> n;
+    for (int i = 0; i < 6; ++i) n(i) = std::sqrt(Q(i, i)) * normal_(rng_);
+    truth_ = predictCamera(truth_, kDt, n);
+
+    predict(state_, kDt, noise_.next(state_, kDt));
+    constexpr int m = 7;  // r and q measured directly
+    Eigen::Matrix<double, m, 1> sigma;
+    sigma << Vec3::Constant(1e-3), Vec4::Constant(1e-3);
+    Eigen::VectorXd nu(m);
+    for (int i = 0; i < m; ++i) nu(i) = truth_(i) + sigma(i) * normal_(rng_) - state_.x()(i);
+    Eigen::MatrixXd S = state_.P().topLeftCorner<m, m>();
+    S.diagonal() += sigma.cwiseAbs2();
+    ASSERT_TRUE(kalmanUpdate(state_, state_.P().leftCols<m>(), S, nu));
+  }
+
+  const MotionModelOptions& noise() const { return noise_.current(); }
+
+ private:
+  AdaptiveMotionNoise noise_;
+  EkfState state_;
+  CameraVector truth_;
+  std::mt19937 rng_{7};
+  std::normal_distribution<double> normal_;
+};
+
+MotionModelOptions adaptive() {
+  MotionModelOptions o;
+  o.sigma_a = 2.0;  // ten times the truth below: where it starts and the most it takes
+  o.sigma_alpha = 3.0;
+  o.adaptive.enabled = true;
+  o.adaptive.min_sigma_a = 0.01;
+  o.adaptive.min_sigma_alpha = 0.01;
+  return o;
+}
+
+// Averaged over the last 10 s of 40 (from ten times the truth, 60 time constants before), the
+// estimate is the truth's within 30 % (its own spread over a time constant of 5 frames is about
+// 40 %, so the average is what is tested), and it follows a fivefold rise within 1 s.
+TEST(AdaptiveMotionNoise, FindsTheTrueImpulsesFromTenTimesThemAndFollowsARise) {
+  Simulation sim(adaptive());
+  double sum_a = 0, sum_alpha = 0;
+  for (int k = 0; k < 400; ++k) {
+    sim.step(0.2, 0.3);
+    if (k >= 300) sum_a += sim.noise().sigma_a / 100, sum_alpha += sim.noise().sigma_alpha / 100;
+  }
+  EXPECT_NEAR(sum_a, 0.2, 0.2 * 0.3);
+  EXPECT_NEAR(sum_alpha, 0.3, 0.3 * 0.3);
+  for (int k = 0; k < 10; ++k) sim.step(1.0, 1.5);
+  EXPECT_GT(sim.noise().sigma_a, 0.5);
+  EXPECT_GT(sim.noise().sigma_alpha, 0.75);
+}
+
+TEST(AdaptiveMotionNoise, StaysBetweenItsFloorAndTheSetNoise) {
+  MotionModelOptions o = adaptive();
+  o.adaptive.min_sigma_a = 0.5;
+  o.adaptive.min_sigma_alpha = 0.5;
+  Simulation still(o);
+  for (int k = 0; k < 200; ++k) still.step(1e-6, 1e-6);
+  EXPECT_DOUBLE_EQ(still.noise().sigma_a, 0.5);
+  EXPECT_DOUBLE_EQ(still.noise().sigma_alpha, 0.5);
+  Simulation shaken(o);
+  for (int k = 0; k < 200; ++k) shaken.step(20, 30);
+  EXPECT_DOUBLE_EQ(shaken.noise().sigma_a, 2.0);
+  EXPECT_DOUBLE_EQ(shaken.noise().sigma_alpha, 3.0);
+}
+
+TEST(AdaptiveMotionNoise, OffLeavesTheSetNoise) {
+  MotionModelOptions o = adaptive();
+  o.adaptive.enabled = false;
+  Simulation sim(o);
+  for (int k = 0; k < 100; ++k) sim.step(0.2, 0.3);
+  EXPECT_EQ(sim.noise().sigma_a, 2.0);
+  EXPECT_EQ(sim.noise().sigma_alpha, 3.0);
+}
+
+}  // namespace
+}  // namespace slamcmp
