@@ -68,6 +68,9 @@ class EkfSlam {
   // the filter's velocity corrections when motion.adaptive is on.
   void predict(double dt);
   const MotionModelOptions& motion() const { return motion_noise_.current(); }
+  // The motion noise back to its set values (motion.adaptive): the filter was found too sure of
+  // its motion (the board where it did not expect it).
+  void distrustMotion() { motion_noise_.restart(); }
   // Active search of the map's points and their update (frame_measurement.h).
   FrameMeasurement measure(const cv::Mat& grey);
   // Depth particles of the initialising rays weighted in this frame; converged rays become points,

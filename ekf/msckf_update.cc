@@ -22,6 +22,45 @@ namespace {
 Vec3 clonePosition(const EkfState& state, int offset) { return state.x().segment<3>(offset); }
 Vec4 cloneQuat(const EkfState& state, int offset) { return state.x().segment<4>(offset + 3); }
 
+// Baarda's data snooping over the tracks' whitened rows [H | r] (R = I): the update's residual
+// e = r - H K r is S^-1 r, with covariance S^-1 (S = H P H^T + I), so a track's block of it tests
+// that track against what all the others (and the prior) say. The worst beyond its chi-squared
+// quantile is dropped and the test repeated. Returns the tracks dropped.
+int snoopOutliers(const Eigen::MatrixXd& P_cc, double probability, std::vector<Eigen::MatrixXd>* accepted, int* rows) {
+  const int c = static_cast<int>(P_cc.rows());
+  int dropped = 0;
+  while (accepted->size() > 1) {
+    Eigen::MatrixXd stacked(*rows, c + 1);
+    std::vector<int> start;
+    int row = 0;
+    for (const Eigen::MatrixXd& a : *accepted) {
+      start.push_back(row);
+      stacked.middleRows(row, a.rows()) = a;
+      row += static_cast<int>(a.rows());
+    }
+    const Eigen::MatrixXd H = stacked.leftCols(c);
+    Eigen::MatrixXd S = H * P_cc * H.transpose();
+    S.diagonal().array() += 1.0;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
+    const Eigen::MatrixXd S_inverse = ldlt.solve(Eigen::MatrixXd::Identity(*rows, *rows));
+    const Eigen::VectorXd e = S_inverse * stacked.col(c);
+    double worst = 1.0;  // the test statistic over its quantile
+    size_t worst_track = 0;
+    for (size_t i = 0; i < accepted->size(); ++i) {
+      const int m = static_cast<int>((*accepted)[i].rows());
+      const Eigen::VectorXd e_i = e.segment(start[i], m);
+      const double t = e_i.dot(S_inverse.block(start[i], start[i], m, m).ldlt().solve(e_i));
+      const double ratio = t / chiSquaredQuantile(m, probability);
+      if (ratio > worst) worst = ratio, worst_track = i;
+    }
+    if (worst <= 1.0) break;
+    *rows -= static_cast<int>((*accepted)[worst_track].rows());
+    accepted->erase(accepted->begin() + static_cast<long>(worst_track));
+    ++dropped;
+  }
+  return dropped;
+}
+
 }  // namespace
 
 std::optional<Vec3> triangulateTrack(const EkfState& state, const CameraModel& camera,
@@ -115,6 +154,8 @@ MsckfResult msckfUpdate(EkfState& state, const CameraModel& camera,
     rows += 2 * m - 3;
     ++result.used;
   }
+  if (options.snooping_probability > 0) result.snooped = snoopOutliers(P_cc, options.snooping_probability, &accepted, &rows);
+  result.used -= result.snooped;
   if (rows == 0) return result;
   Eigen::MatrixXd stacked(rows, c + 1);
   rows = 0;

@@ -30,6 +30,9 @@ struct MsckfOptions {
   double gate_probability = 0.99;     // a track's chi-squared test on its projected residual
   double min_parallax_deg = 0.5;      // between the track's first and last rays: less, no depth
   double max_triangulation_px = 2.0;  // a triangulated point's largest reprojection error
+  // Each track tested against all the others (Baarda's data snooping, see msckfUpdate) at this
+  // probability, the worst dropped until none fails; 0: not tested.
+  double snooping_probability = 0;
 };
 
 // The point that the clones' observations meet, by Gauss-Newton on the pixel residuals from the
@@ -41,6 +44,7 @@ std::optional<Vec3> triangulateTrack(const EkfState& state, const CameraModel& c
 struct MsckfResult {
   int used = 0;       // tracks in the update
   int rejected = 0;   // tracks failing the gate
+  int snooped = 0;    // tracks passing the gate but failing the test against the others
   int untriangulated = 0;
   bool applied = false;
 };

@@ -145,7 +145,8 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   // The board found where the filter did not expect it: the filter was too sure of the camera (a
   // turn faster than its motion model, a drift). Its camera covariance is widened and the corners
   // re-anchor the camera and, through the correlations, the map; if they still disagree, the
-  // filter restarts from the board.
+  // filter restarts from the board. An adapted motion noise goes back to its set values.
+  slam_->distrustMotion();
   Eigen::MatrixXd& P = slam_->state().P();
   P.diagonal().segment<3>(EkfState::kR).array() += co.reanchor_position_sigma * co.reanchor_position_sigma;
   P.diagonal().segment<4>(EkfState::kQ).array() += co.reanchor_orientation_sigma * co.reanchor_orientation_sigma;

@@ -10,6 +10,8 @@ void TrackedMotionOptions::check() const {
     throw OptionError("min_track_length", "must be in [2, window]");
   if (!(pixel_sigma > 0)) throw OptionError("pixel_sigma", "must be positive");
   if (!(gate_probability > 0 && gate_probability < 1)) throw OptionError("gate_probability", "must be in (0, 1)");
+  if (!(snooping_probability >= 0 && snooping_probability < 1))
+    throw OptionError("snooping_probability", "must be in [0, 1) (0: off)");
   if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw OptionError("min_parallax_deg", "must be in [0, 90)");
   if (!(max_triangulation_px > 0)) throw OptionError("max_triangulation_px", "must be positive");
   if (points.max > tracks.max_features) throw OptionError("points.max", "must be at most tracks.max_features");

@@ -50,6 +50,7 @@ struct TrackedMotionOptions {
   // Also update the frames without board corners. Measured (window 2-4, 7 runs of board_leaves
   // and wall_turn): better on some runs, worse on others (board_leaves seed 3 NEES 5-11).
   bool without_board = false;
+  double snooping_probability = 0;  // each track tested against the others (msckf_update.h); 0: off
   FeatureTrackerOptions tracks{80, 50};  // at most 80 tracked, replenished below 50
   // Tracks held as points (tracked_points.h), started on tracks that are none while fewer are held.
   TrackedPointsOptions points;
@@ -64,11 +65,15 @@ struct TrackedMotionOptions {
     v("min_parallax_deg", min_parallax_deg, "a track whose first and last rays are closer than this is not triangulated, degrees");
     v("max_triangulation_px", max_triangulation_px, "a triangulated track missing one of its frames by more is left out, pixels");
     v("without_board", without_board, "also update the frames in which no board corner is measured");
+    v("snooping_probability", snooping_probability,
+      "test each track against all the others at this probability and drop the worst until none fails (0: off)");
     v("tracks", tracks, "the tracked Shi-Tomasi features");
     v("points", points, "tracks held in the state as inverse-depth points (tracked_points.h)");
   }
   void check() const;
-  MsckfOptions msckf() const { return {pixel_sigma, gate_probability, min_parallax_deg, max_triangulation_px}; }
+  MsckfOptions msckf() const {
+    return {pixel_sigma, gate_probability, min_parallax_deg, max_triangulation_px, snooping_probability};
+  }
 };
 
 class TrackedMotion {

@@ -111,6 +111,40 @@ TEST(MsckfUpdate, AnOutlierTrackIsLeftOut) {
   EXPECT_EQ(gated.used, 29);
 }
 
+// Two frames, as hybrid uses them, with tracks at 0.05 px and the last pose known to 2 mm: a
+// track whose last observation is 0.8 px off passes its own gate (the prior lets the pose explain
+// 2 px) and pulls the pose; tested against the other tracks (data snooping) it is the one left out.
+TEST(MsckfUpdate, ATrackTheOthersContradictIsLeftOutBySnooping) {
+  const Window w(2, 40);
+  const Vec3 dr(0.001, -0.001, 0.0005);
+  auto tracks = w.tracks(w.state(dr, Vec3::Zero(), 0.002, 0.001), 0.05, 3);
+  tracks[7][1].uv += Vec2(0, 0.8);  // across its epipolar line (the camera moves along x)
+  MsckfOptions options;
+  options.pixel_sigma = 0.05;
+  options.min_parallax_deg = 0;  // hybrid's: two frames 4 mm apart
+  options.max_triangulation_px = 10;
+  EkfState plain = w.state(dr, Vec3::Zero(), 0.002, 0.001);
+  const MsckfResult gated = msckfUpdate(plain, w.camera, tracks, options);
+  EXPECT_EQ(gated.rejected, 0);
+  EXPECT_EQ(gated.used, 40);
+  options.snooping_probability = 0.99;
+  EkfState snooped = w.state(dr, Vec3::Zero(), 0.002, 0.001);
+  const MsckfResult result = msckfUpdate(snooped, w.camera, tracks, options);
+  EXPECT_EQ(result.snooped, 1);
+  EXPECT_EQ(result.used, 39);
+  // The same as the update without that track; with it, the state (m and quaternion) is 0.5 mm off.
+  auto without = tracks;
+  without.erase(without.begin() + 7);
+  EkfState reference = w.state(dr, Vec3::Zero(), 0.002, 0.001);
+  msckfUpdate(reference, w.camera, without, options);
+  EXPECT_LT((snooped.x() - reference.x()).norm(), 1e-12);
+  EXPECT_GT((plain.x() - reference.x()).norm(), 1e-4);  // measured 5e-4
+  // Without the outlier, snooping drops nothing.
+  tracks[7][1].uv -= Vec2(0, 0.8);
+  EkfState clean = w.state(dr, Vec3::Zero(), 0.002, 0.001);
+  EXPECT_EQ(msckfUpdate(clean, w.camera, tracks, options).snooped, 0);
+}
+
 TEST(MsckfUpdate, TheLastPositionIsConsistentWithItsCovariance) {
   // Monte Carlo: the last pose's prior error drawn from its covariance, pixel noise at the
   // update's sigma; the position's NEES averaged over the runs must fall in its 99 % chi-squared
