@@ -25,7 +25,8 @@ Vec4 cloneQuat(const EkfState& state, int offset) { return state.x().segment<4>(
 // Baarda's data snooping over the tracks' whitened rows [H | r] (R = I): the update's residual
 // e = r - H K r is S^-1 r, with covariance S^-1 (S = H P H^T + I), so a track's block of it tests
 // that track against what all the others (and the prior) say. The worst beyond its chi-squared
-// quantile is dropped and the test repeated. Returns the tracks dropped.
+// quantile is dropped and the test repeated. S^-1 = I - H G H^T with G = P (I + H^T H P)^-1 (the
+// push-through identity: c x c, so the cost is linear in the tracks). Returns the tracks dropped.
 int snoopOutliers(const Eigen::MatrixXd& P_cc, double probability, std::vector<Eigen::MatrixXd>* accepted, int* rows) {
   const int c = static_cast<int>(P_cc.rows());
   int dropped = 0;
@@ -39,17 +40,17 @@ int snoopOutliers(const Eigen::MatrixXd& P_cc, double probability, std::vector<E
       row += static_cast<int>(a.rows());
     }
     const Eigen::MatrixXd H = stacked.leftCols(c);
-    Eigen::MatrixXd S = H * P_cc * H.transpose();
-    S.diagonal().array() += 1.0;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
-    const Eigen::MatrixXd S_inverse = ldlt.solve(Eigen::MatrixXd::Identity(*rows, *rows));
-    const Eigen::VectorXd e = S_inverse * stacked.col(c);
+    const Eigen::MatrixXd X = Eigen::MatrixXd::Identity(c, c) + H.transpose() * H * P_cc;
+    const Eigen::MatrixXd G = P_cc * X.partialPivLu().inverse();
+    const Eigen::VectorXd e = stacked.col(c) - H * (G * (H.transpose() * stacked.col(c)));
     double worst = 1.0;  // the test statistic over its quantile
     size_t worst_track = 0;
     for (size_t i = 0; i < accepted->size(); ++i) {
       const int m = static_cast<int>((*accepted)[i].rows());
+      const Eigen::MatrixXd H_i = H.middleRows(start[i], m);
+      const Eigen::MatrixXd covariance = Eigen::MatrixXd::Identity(m, m) - H_i * G * H_i.transpose();
       const Eigen::VectorXd e_i = e.segment(start[i], m);
-      const double t = e_i.dot(S_inverse.block(start[i], start[i], m, m).ldlt().solve(e_i));
+      const double t = e_i.dot(covariance.ldlt().solve(e_i));
       const double ratio = t / chiSquaredQuantile(m, probability);
       if (ratio > worst) worst = ratio, worst_track = i;
     }
