@@ -20,12 +20,18 @@ void MotionModelOptions::check() const {
   require(sigma_alpha > 0, "sigma_alpha", "must be positive, got " + std::to_string(sigma_alpha));
   require(reference_rate > 0, "reference_rate", "must be positive");
   require(default_dt > 0, "default_dt", "must be positive, got " + std::to_string(default_dt));
+  // The floors are the least the adapted noise takes, the set values the most.
+  require(!adaptive.enabled || adaptive.min_sigma_a <= sigma_a, "adaptive.min_sigma_a",
+          "must not exceed sigma_a (" + std::to_string(sigma_a) + "), got " + std::to_string(adaptive.min_sigma_a));
+  require(!adaptive.enabled || adaptive.min_sigma_alpha <= sigma_alpha, "adaptive.min_sigma_alpha",
+          "must not exceed sigma_alpha (" + std::to_string(sigma_alpha) + "), got " +
+              std::to_string(adaptive.min_sigma_alpha));
 }
 
 void AdaptiveMotionOptions::check() const {
-  require(time_constant > 0 && time_constant < 1e6, "time_constant", "must be in (0, 1e6) s");
-  require(min_sigma_a > 0, "min_sigma_a", "must be positive");
-  require(min_sigma_alpha > 0, "min_sigma_alpha", "must be positive");
+  require(time_constant > 0, "time_constant", "must be positive (s), got " + std::to_string(time_constant));
+  require(min_sigma_a > 0, "min_sigma_a", "must be positive, got " + std::to_string(min_sigma_a));
+  require(min_sigma_alpha > 0, "min_sigma_alpha", "must be positive, got " + std::to_string(min_sigma_alpha));
 }
 
 void ActiveSearchOptions::check() const {

@@ -9,20 +9,11 @@
 
 namespace slamcmp {
 
-// Constant velocity with acceleration impulses V = a dt, W = alpha dt. SceneLib's sigma_a and
-// sigma_alpha give the impulses at its 30 Hz: std(V) = sigma_a / 30 a frame. At another frame
-// interval dt the impulse variance scales linearly with dt, as for continuous white-noise
-// acceleration (velocity a random walk): var(V) = (sigma_a / rate)^2 * (dt * rate) with
-// rate = reference_rate, i.e. std(V) = sigma_a * sqrt(dt / reference_rate); the same for W.
-// At 10 fps that is sqrt(3) times SceneLib's per-frame impulse. The defaults are half SceneLib's
-// (its 4 and 6 are for a hand-held camera): the slow synthetic and tripod sequences stay tracked,
-// search ellipses shrink about twofold (tv1..tv4 ~10x faster) and fewer false peaks fall inside
-// them (board_leaves: ATE 30 cm -> 7 mm; tv3 5.8 -> 2.4 mm; tv1, tv4, vamr within 0.6 mm).
 // The motion noise estimated from the filter's own velocity corrections (covariance matching,
 // ekf/adaptive_motion_noise.h): sigma_a and sigma_alpha are where it starts and the most it takes;
 // it falls towards what the camera's accelerations show, no lower than the floors.
 struct AdaptiveMotionOptions {
-  bool enabled = false;
+  bool enabled = false;         // off: sigma_a and sigma_alpha as set (SceneLib)
   // s, of the running mean of the velocity corrections: short, for a hand-held camera's bursts
   // (vamr_checkerboard: 1.4 mm with 0.5 s, 1.7 mm with 2 s, beside a floor of 0.5).
   double time_constant = 0.5;
@@ -38,6 +29,15 @@ struct AdaptiveMotionOptions {
   void check() const;
 };
 
+// Constant velocity with acceleration impulses V = a dt, W = alpha dt. SceneLib's sigma_a and
+// sigma_alpha give the impulses at its 30 Hz: std(V) = sigma_a / 30 a frame. At another frame
+// interval dt the impulse variance scales linearly with dt, as for continuous white-noise
+// acceleration (velocity a random walk): var(V) = (sigma_a / rate)^2 * (dt * rate) with
+// rate = reference_rate, i.e. std(V) = sigma_a * sqrt(dt / reference_rate); the same for W.
+// At 10 fps that is sqrt(3) times SceneLib's per-frame impulse. The defaults are half SceneLib's
+// (its 4 and 6 are for a hand-held camera): the slow synthetic and tripod sequences stay tracked,
+// search ellipses shrink about twofold (tv1..tv4 ~10x faster) and fewer false peaks fall inside
+// them (board_leaves: ATE 30 cm -> 7 mm; tv3 5.8 -> 2.4 mm; tv1, tv4, vamr within 0.6 mm).
 struct MotionModelOptions {
   double sigma_a = 2.0;           // m/s^2, linear acceleration noise at the reference rate
   double sigma_alpha = 3.0;       // rad/s^2, angular acceleration noise at the reference rate

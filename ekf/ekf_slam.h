@@ -67,7 +67,6 @@ class EkfSlam {
   // The motion model over dt seconds (default_dt when dt is not positive), its noise adapted to
   // the filter's velocity corrections when motion.adaptive is on.
   void predict(double dt);
-  const MotionModelOptions& motion() const { return motion_noise_.current(); }
   // The motion noise back to its set values (motion.adaptive): the filter was found too sure of
   // its motion (the board where it did not expect it).
   void distrustMotion() { motion_noise_.restart(); }

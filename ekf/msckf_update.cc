@@ -6,6 +6,7 @@
 
 #include <Eigen/QR>
 
+#include "ekf/data_snooping.h"
 #include "ekf/ekf_update.h"
 #include "ekf/joint_compatibility.h"
 #include "ekf/measurement_model.h"
@@ -21,46 +22,6 @@ namespace {
 
 Vec3 clonePosition(const EkfState& state, int offset) { return state.x().segment<3>(offset); }
 Vec4 cloneQuat(const EkfState& state, int offset) { return state.x().segment<4>(offset + 3); }
-
-// Baarda's data snooping over the tracks' whitened rows [H | r] (R = I): the update's residual
-// e = r - H K r is S^-1 r, with covariance S^-1 (S = H P H^T + I), so a track's block of it tests
-// that track against what all the others (and the prior) say. The worst beyond its chi-squared
-// quantile is dropped and the test repeated. S^-1 = I - H G H^T with G = P (I + H^T H P)^-1 (the
-// push-through identity: c x c, so the cost is linear in the tracks). Returns the tracks dropped.
-int snoopOutliers(const Eigen::MatrixXd& P_cc, double probability, std::vector<Eigen::MatrixXd>* accepted, int* rows) {
-  const int c = static_cast<int>(P_cc.rows());
-  int dropped = 0;
-  while (accepted->size() > 1) {
-    Eigen::MatrixXd stacked(*rows, c + 1);
-    std::vector<int> start;
-    int row = 0;
-    for (const Eigen::MatrixXd& a : *accepted) {
-      start.push_back(row);
-      stacked.middleRows(row, a.rows()) = a;
-      row += static_cast<int>(a.rows());
-    }
-    const Eigen::MatrixXd H = stacked.leftCols(c);
-    const Eigen::MatrixXd X = Eigen::MatrixXd::Identity(c, c) + H.transpose() * H * P_cc;
-    const Eigen::MatrixXd G = P_cc * X.partialPivLu().inverse();
-    const Eigen::VectorXd e = stacked.col(c) - H * (G * (H.transpose() * stacked.col(c)));
-    double worst = 1.0;  // the test statistic over its quantile
-    size_t worst_track = 0;
-    for (size_t i = 0; i < accepted->size(); ++i) {
-      const int m = static_cast<int>((*accepted)[i].rows());
-      const Eigen::MatrixXd H_i = H.middleRows(start[i], m);
-      const Eigen::MatrixXd covariance = Eigen::MatrixXd::Identity(m, m) - H_i * G * H_i.transpose();
-      const Eigen::VectorXd e_i = e.segment(start[i], m);
-      const double t = e_i.dot(covariance.ldlt().solve(e_i));
-      const double ratio = t / chiSquaredQuantile(m, probability);
-      if (ratio > worst) worst = ratio, worst_track = i;
-    }
-    if (worst <= 1.0) break;
-    *rows -= static_cast<int>((*accepted)[worst_track].rows());
-    accepted->erase(accepted->begin() + static_cast<long>(worst_track));
-    ++dropped;
-  }
-  return dropped;
-}
 
 }  // namespace
 
@@ -120,7 +81,6 @@ MsckfResult msckfUpdate(EkfState& state, const CameraModel& camera,
 
   const double sigma2 = options.pixel_sigma * options.pixel_sigma;
   std::vector<Eigen::MatrixXd> accepted;  // whitened [H | r] rows of each track that passed
-  int rows = 0;
   for (const auto& track : tracks) {
     const std::optional<Vec3> p_world = triangulateTrack(state, camera, track, options);
     if (!p_world) {
@@ -152,20 +112,13 @@ MsckfResult msckfUpdate(EkfState& state, const CameraModel& camera,
       continue;
     }
     accepted.push_back(projected / options.pixel_sigma);
-    rows += 2 * m - 3;
-    ++result.used;
   }
-  if (options.snooping_probability > 0) result.snooped = snoopOutliers(P_cc, options.snooping_probability, &accepted, &rows);
-  result.used -= result.snooped;
-  if (rows == 0) return result;
-  Eigen::MatrixXd stacked(rows, c + 1);
-  rows = 0;
-  for (const Eigen::MatrixXd& a : accepted) {
-    stacked.middleRows(rows, a.rows()) = a;
-    rows += static_cast<int>(a.rows());
-  }
+  if (options.snooping_probability > 0) result.snooped = snoopBlocks(P_cc, options.snooping_probability, &accepted);
+  result.used = static_cast<int>(accepted.size());
+  if (accepted.empty()) return result;
+  Eigen::MatrixXd stacked = stackRows(accepted);
   // More rows than columns: the QR factor's first c rows carry the same information.
-  if (rows > c) {
+  if (stacked.rows() > c) {
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stacked);
     stacked = qr.matrixQR().topRows(c).triangularView<Eigen::Upper>();
   }

@@ -30,8 +30,8 @@ struct MsckfOptions {
   double gate_probability = 0.99;     // a track's chi-squared test on its projected residual
   double min_parallax_deg = 0.5;      // between the track's first and last rays: less, no depth
   double max_triangulation_px = 2.0;  // a triangulated point's largest reprojection error
-  // Each track tested against all the others (Baarda's data snooping, see msckfUpdate) at this
-  // probability, the worst dropped until none fails; 0: not tested.
+  // Each track tested against all the others and the prior (Baarda's data snooping,
+  // ekf/data_snooping.h) at this probability, the worst dropped until none fails; 0: not tested.
   double snooping_probability = 0;
 };
 

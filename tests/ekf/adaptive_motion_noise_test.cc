@@ -4,6 +4,7 @@
 // that starts with ten times the true noise.
 #include "ekf/adaptive_motion_noise.h"
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -69,7 +70,8 @@ MotionModelOptions adaptive() {
 
 // Averaged over the last 10 s of 40 (from ten times the truth, 60 time constants before), the
 // estimate is the truth's within 30 % (its own spread over a time constant of 5 frames is about
-// 40 %, so the average is what is tested), and it follows a fivefold rise within 1 s.
+// 40 %, so the average is what is tested), and 1 s into a fivefold rise it is past half the new
+// value.
 TEST(AdaptiveMotionNoise, FindsTheTrueImpulsesFromTenTimesThemAndFollowsARise) {
   Simulation sim(adaptive());
   double sum_a = 0, sum_alpha = 0;
@@ -105,6 +107,38 @@ TEST(AdaptiveMotionNoise, OffLeavesTheSetNoise) {
   for (int k = 0; k < 100; ++k) sim.step(0.2, 0.3);
   EXPECT_EQ(sim.noise().sigma_a, 2.0);
   EXPECT_EQ(sim.noise().sigma_alpha, 3.0);
+}
+
+// A restart (the filter reset, or the board found where it was not expected) is back to the set
+// noise.
+TEST(AdaptiveMotionNoise, ARestartGoesBackToTheSetNoise) {
+  const MotionModelOptions o = adaptive();
+  AdaptiveMotionNoise noise(o);
+  EkfState state;
+  Mat13 P = Mat13::Identity() * 1e-4;
+  state.reset(SE3(), P);
+  for (int k = 0; k < 60; ++k) noise.next(state, kDt);  // no corrections: down to the floor in 6 s
+  EXPECT_DOUBLE_EQ(noise.current().sigma_a, o.adaptive.min_sigma_a);
+  noise.restart();
+  EXPECT_EQ(noise.current().sigma_a, 2.0);
+  EXPECT_EQ(noise.current().sigma_alpha, 3.0);
+}
+
+TEST(AdaptiveMotionNoise, OptionsRefuseFloorsAboveTheSetNoiseAndNoTimeConstant) {
+  MotionModelOptions o = adaptive();
+  EXPECT_NO_THROW(o.check());
+  o.adaptive.min_sigma_a = 2.5;  // above sigma_a
+  EXPECT_THROW(o.check(), OptionError);
+  o.adaptive.enabled = false;  // not used, not refused
+  EXPECT_NO_THROW(o.check());
+  MotionModelOptions alpha = adaptive();
+  alpha.adaptive.min_sigma_alpha = 4;
+  EXPECT_THROW(alpha.check(), OptionError);
+  AdaptiveMotionOptions a;
+  a.time_constant = 0;
+  EXPECT_THROW(a.check(), OptionError);
+  a.time_constant = NAN;
+  EXPECT_THROW(a.check(), OptionError);
 }
 
 }  // namespace

@@ -275,6 +275,17 @@ TEST(HybridTracker, SelfCalibratesWithoutACameraFile) {
   EXPECT_LT(run.rmsWhere([](const FrameScore&) { return true; }), 0.005);
 }
 
+TEST(HybridTracker, TrackedMotionRefusesASnoopingProbabilityOutsideZeroToOne) {
+  for (const double p : {-0.1, 1.0, double(NAN)}) {
+    TrackedMotionOptions options;
+    options.snooping_probability = p;
+    EXPECT_THROW(options.check(), OptionError) << p;
+  }
+  TrackedMotionOptions off;
+  off.snooping_probability = 0;
+  EXPECT_NO_THROW(off.check());
+}
+
 TEST(HybridTracker, NeverStartedIsRefusedAtTheEnd) {
   TrackerContext context;
   context.camera = CameraModel::fromOpenCV(cv::Mat::eye(3, 3, CV_64F) * 500, cv::Mat::zeros(1, 5, CV_64F), {320, 240});
