@@ -180,13 +180,16 @@ void BM_ChessboardDetect(benchmark::State& state, const std::string& set, bool b
   state.counters["found"] = benchmark::Counter(static_cast<double>(found), benchmark::Counter::kAvgIterations);
 }
 
-void BM_CornerRefinement(benchmark::State& state, const std::string& set) {
+// One view's corners refined (core/subpixel_corner.h: method gradient or opencv).
+void BM_CornerRefinement(benchmark::State& state, const std::string& set, const std::string& method) {
   const StageData* d = dataOrSkip(state, set);
   if (!d) return;
+  ChessboardDetectorOptions options;
+  options.subpixel.method = method;
   size_t i = 0;
   for (auto _ : state) {
     std::vector<cv::Point2f> uv = d->corners[i];
-    refineChessboardCorners(d->b->frames[d->detected[i]].grey, d->target, uv);
+    refineChessboardCorners(d->b->frames[d->detected[i]].grey, d->target, uv, options);
     benchmark::DoNotOptimize(uv.data());
     i = (i + 1) % d->corners.size();
   }
@@ -672,7 +675,8 @@ const bool registered = [] {
   for (const std::string set : {"tv1", "vamr"}) {
     add("BM_ChessboardDetect/" + set + "/board_present", [set](auto& s) { BM_ChessboardDetect(s, set, true); },
         benchmark::kMillisecond);
-    add("BM_CornerRefinement/" + set, [set](auto& s) { BM_CornerRefinement(s, set); });
+    for (const std::string method : {"opencv", "gradient"})
+      add("BM_CornerRefinement/" + set + "/" + method, [set, method](auto& s) { BM_CornerRefinement(s, set, method); });
     add("BM_BoardCornerTracking/" + set, [set](auto& s) { BM_BoardCornerTracking(s, set); });
     add("BM_HomographyPose/" + set + "/dlt", [set](auto& s) { BM_HomographyPose(s, set, false); });
     add("BM_HomographyPose/" + set + "/refined", [set](auto& s) { BM_HomographyPose(s, set, true); });

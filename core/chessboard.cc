@@ -155,8 +155,7 @@ void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& t,
   // Window side 2w+1 under refine_window_fraction of a square, so it never reaches another corner.
   const int half = std::clamp(static_cast<int>((options.refine_window_fraction * spacing - 1) / 2), 1,
                               options.max_refine_half_window);
-  cv::cornerSubPix(grey, uv, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
+  refineCornersSubpixel(grey, half, uv, options.subpixel);
 }
 
 bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& t, std::vector<cv::Point2f>* uv,

@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera.h"
+#include "core/subpixel_corner.h"
 #include "core/target.h"
 
 namespace slamcmp {
@@ -15,12 +16,14 @@ struct ChessboardDetectorOptions {
   bool fast_check = true;            // OpenCV's quick rejection of frames without a board
   double refine_window_fraction = 0.4;  // sub-pixel window side / square side in pixels (< 0.5)
   int max_refine_half_window = 11;   // pixels
+  SubpixelCornerOptions subpixel;
   template <class V>
   void visit(V& v) {
     v("fast_check", fast_check, "reject board-less frames quickly (CALIB_CB_FAST_CHECK)");
     v("refine_window_fraction", refine_window_fraction,
       "sub-pixel window side as a fraction of the square side in pixels, under 0.5");
     v("max_refine_half_window", max_refine_half_window, "pixels");
+    v("subpixel", subpixel, "the corners' sub-pixel refinement");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // cv::cornerSubPix needs 2 * half window + 5 pixels

@@ -43,12 +43,6 @@ namespace {
 
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
 
-// Sub-pixel refinement of each point with one window for all (half side `half`, pixels).
-void refine(const cv::Mat& grey, int half, std::vector<cv::Point2f>& uv) {
-  if (uv.empty()) return;
-  cv::cornerSubPix(grey, uv, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.01));
-}
 
 }  // namespace
 
@@ -160,7 +154,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
     ids.push_back(i);
     uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
   }
-  refine(grey, half, uv);
+  refineCornersSubpixel(grey, half, uv, options_.detector.subpixel);
   BoardCornerMeasurement out = keep(pred, ids, uv);
   // The board back in view, or its corners lost by the tracking: a board search where the filter
   // predicts it.
@@ -231,7 +225,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   }
   if (ids.empty()) return {};
   std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
-  refine(grey, refineHalfWindow(squares[squares.size() / 2]), uv);
+  refineCornersSubpixel(grey, refineHalfWindow(squares[squares.size() / 2]), uv, options_.detector.subpixel);
   // Gated one by one, then on the board plane with the corners already kept this frame.
   std::vector<int> all_ids = tracked_ids_;
   std::vector<Vec2> all_z;

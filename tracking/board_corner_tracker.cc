@@ -200,8 +200,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
   if (static_cast<int>(c->ids.size()) < minCorners()) return false;
   const std::vector<cv::Point2f> start = c->uv;
   const int half = refineHalfWindow(subsetSpacing(target_, *c), options_.detector);
-  cv::cornerSubPix(grey, c->uv, cv::Size(half, half), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
+  refineCornersSubpixel(grey, half, c->uv, options_.detector.subpixel);
   // A corner the refinement moves far was not where tracking or the prediction put it (or is no
   // longer a corner): it is dropped, the rest stand.
   BoardCorners kept;
@@ -450,7 +449,7 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
     std::vector<cv::Point2f> uv;
     std::vector<uchar> status;
     std::vector<float> error;
-    // Coarse convergence is enough: the corners are refined by cornerSubPix next.
+    // Coarse convergence is enough: the corners are refined to sub-pixel next.
     cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, error, lk_window, lk_levels, kCoarseLk);
     bool all = true;
     for (size_t i = 0; i < uv.size() && all; ++i)

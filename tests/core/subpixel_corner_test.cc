@@ -1,0 +1,140 @@
+// Sub-pixel corner refinement against exact X-junctions imaged as a camera does: the ideal
+// junction blurred by the optics (Gaussian, 0.7 px), then integrated over each pixel (8 x 8
+// samples) and quantised to 8 bits. The corner's true position is known to float precision.
+#include "core/subpixel_corner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+
+namespace slamcmp {
+namespace {
+
+constexpr int kSize = 41;     // pixels
+constexpr int kSamples = 8;   // per pixel along each axis
+
+// A junction at `corner` (pixel coordinates, pixel centres at integers) of two lines at angles a
+// and b: opposite sectors dark (40) and bright (220), as a chessboard's corner.
+cv::Mat junction(const cv::Point2d& corner, double a, double b, double lens_blur_px = 0.7) {
+  cv::Mat fine(kSize * kSamples, kSize * kSamples, CV_32F);
+  for (int r = 0; r < fine.rows; ++r)
+    for (int c = 0; c < fine.cols; ++c) {
+      const double x = (c + 0.5) / kSamples - 0.5 - corner.x, y = (r + 0.5) / kSamples - 0.5 - corner.y;
+      const bool side_a = std::cos(a) * y - std::sin(a) * x > 0, side_b = std::cos(b) * y - std::sin(b) * x > 0;
+      fine.at<float>(r, c) = side_a == side_b ? 40.f : 220.f;
+    }
+  cv::GaussianBlur(fine, fine, cv::Size(), lens_blur_px * kSamples);
+  cv::Mat pixels;
+  cv::resize(fine, pixels, cv::Size(kSize, kSize), 0, 0, cv::INTER_AREA);
+  cv::Mat grey;
+  pixels.convertTo(grey, CV_8U);
+  return grey;
+}
+
+SubpixelCornerOptions withMethod(const std::string& method) {
+  SubpixelCornerOptions o;
+  o.method = method;
+  return o;
+}
+
+struct Errors {
+  double rms = 0;         // per axis, pixels
+  double phase_bias = 0;  // mean x error at phase 0.15-0.35 minus at 0.65-0.85, pixels
+};
+
+// 200 junctions at random sub-pixel positions and angles, each refined from 0.7 px off.
+Errors refineMany(const SubpixelCornerOptions& options) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1), start(-0.7, 0.7), angle(0, M_PI), opening(1.0, 2.1);
+  double sum2 = 0, low = 0, high = 0;
+  int n_low = 0, n_high = 0;
+  const int n = 200;
+  for (int k = 0; k < n; ++k) {
+    const cv::Point2d truth(20 + unit(rng), 20 + unit(rng));
+    const double a = angle(rng);
+    const cv::Mat grey = junction(truth, a, a + opening(rng));
+    std::vector<cv::Point2f> uv{cv::Point2f(static_cast<float>(truth.x + start(rng)), static_cast<float>(truth.y + start(rng)))};
+    refineCornersSubpixel(grey, 5, uv, options);
+    const double ex = uv[0].x - truth.x, ey = uv[0].y - truth.y;
+    sum2 += ex * ex + ey * ey;
+    const double phase = truth.x - std::floor(truth.x);
+    if (phase > 0.15 && phase < 0.35) low += ex, ++n_low;
+    if (phase > 0.65 && phase < 0.85) high += ex, ++n_high;
+  }
+  return {std::sqrt(sum2 / (2 * n)), low / n_low - high / n_high};
+}
+
+TEST(SubpixelCorner, JunctionsArePlacedWithoutPixelLocking) {
+  const Errors gradient = refineMany(withMethod("gradient"));
+  const Errors resampled = refineMany(withMethod("opencv"));
+  // Measured: gradient 0.009 px RMS, its phase bias under 0.005 px; cv::cornerSubPix 0.020 px and
+  // 0.04 px (its corners drawn towards the nearest half pixel).
+  EXPECT_LT(gradient.rms, 0.015);
+  EXPECT_LT(std::abs(gradient.phase_bias), 0.01);
+  EXPECT_LT(gradient.rms, 0.7 * resampled.rms) << gradient.rms << " px against cv::cornerSubPix's " << resampled.rms;
+  EXPECT_GT(std::abs(resampled.phase_bias), 2 * std::abs(gradient.phase_bias));
+}
+
+// RMS error per axis of 50 right-angled junctions refined in windows of half side `half`.
+double smallWindowRms(int half, const SubpixelCornerOptions& options) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(0, 1), start(-0.4, 0.4);
+  double sum2 = 0;
+  for (int k = 0; k < 50; ++k) {
+    const cv::Point2d truth(20 + unit(rng), 20 + unit(rng));
+    const cv::Mat grey = junction(truth, 0.3, 0.3 + M_PI / 2);
+    std::vector<cv::Point2f> uv{cv::Point2f(static_cast<float>(truth.x + start(rng)), static_cast<float>(truth.y + start(rng)))};
+    refineCornersSubpixel(grey, half, uv, options);
+    sum2 += std::pow(uv[0].x - truth.x, 2) + std::pow(uv[0].y - truth.y, 2);
+  }
+  return std::sqrt(sum2 / 100);
+}
+
+TEST(SubpixelCorner, SmallWindowsAreAsAccurateAsOpenCv) {
+  // Squares of 12 to 20 px: the smoothing is held to half the window's radius beyond 2 px.
+  for (int half : {2, 3, 4}) {
+    const double gradient = smallWindowRms(half, withMethod("gradient")), resampled = smallWindowRms(half, withMethod("opencv"));
+    std::printf("half %d: %.4f px, cv::cornerSubPix %.4f px\n", half, gradient, resampled);
+    EXPECT_LT(gradient, 1.1 * resampled) << "half window " << half;
+  }
+}
+
+TEST(SubpixelCorner, WhatTheGradientsCannotPlaceGoesToOpenCv) {
+  // A lone edge (no junction), and a corner whose window would leave the image: refined as
+  // cv::cornerSubPix refines them.
+  cv::Mat edge(kSize, kSize, CV_8U, cv::Scalar(40));
+  edge.colRange(20, kSize).setTo(220);
+  const std::vector<std::pair<cv::Mat, cv::Point2f>> cases{{edge, {20.3f, 19.6f}},
+                                                           {junction({3.2, 20.4}, 0.2, 1.8), {3.f, 20.f}}};
+  for (const auto& [grey, start] : cases) {
+    std::vector<cv::Point2f> gradient{start}, resampled{start};
+    refineCornersSubpixel(grey, 5, gradient, withMethod("gradient"));
+    refineCornersSubpixel(grey, 5, resampled, withMethod("opencv"));
+    EXPECT_EQ(gradient[0], resampled[0]);
+  }
+}
+
+TEST(SubpixelCorner, OptionsAreChecked) {
+  SubpixelCornerOptions o;
+  o.method = "bilinear";
+  EXPECT_THROW(o.check(), OptionError);
+  o = {};
+  o.smoothing_sigma_px = -1;
+  EXPECT_THROW(o.check(), OptionError);
+  o = {};
+  o.epsilon_px = 0;
+  EXPECT_THROW(o.check(), OptionError);
+  EXPECT_NO_THROW(SubpixelCornerOptions{}.check());
+}
+
+}  // namespace
+}  // namespace slamcmp
