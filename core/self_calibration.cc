@@ -87,7 +87,8 @@ std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not)
 }
 
 CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,
-                                      const SelfCalibrationOptions& options, const std::string& where) {
+                                      const SelfCalibrationOptions& options, const std::string& where,
+                                      const ChessboardDetectorOptions& detector) {
   SelfCalibrator calibrator(target, image_size, options);
   Progress progress("calibrate", frames.size());
   Frame frame;
@@ -99,11 +100,11 @@ CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarge
     if (frame.grey.empty()) continue;
     // Speed does not matter here: where the classic detector fails (strong distortion, small
     // squares) OpenCV's sector-based detector gets another try.
-    if (!detectChessboard(frame.grey, target, &uv)) {
+    if (!detectChessboard(frame.grey, target, &uv, detector)) {
       if (!cv::findChessboardCornersSB(frame.grey, cv::Size(target.cols, target.rows), uv) ||
           static_cast<int>(uv.size()) != target.numCorners())
         continue;
-      refineChessboardCorners(frame.grey, target, uv);
+      refineChessboardCorners(frame.grey, target, uv, detector);
       if (!orderChessboardCorners(frame.grey, target, uv)) continue;
     }
     // A symmetric board: the origin nearest the last view's, so that a view turned by 180 degrees

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/camera.h"
+#include "core/chessboard.h"
 #include "core/sequence.h"
 #include "core/target.h"
 
@@ -61,10 +62,11 @@ class SelfCalibrator {
   std::vector<std::vector<cv::Point2f>> views_;
 };
 
-// `slamcmp calibrate`: a full board search in every frame of `frames`, the view selection above,
-// then Zhang's calibration. Throws InputError naming `where` when too few distinct board views
-// were found.
+// `slamcmp calibrate`: a full board search in every frame of `frames` (its corners refined as
+// `detector` says), the view selection above, then Zhang's calibration. Throws InputError naming
+// `where` when too few distinct board views were found.
 CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,
-                                      const SelfCalibrationOptions& options, const std::string& where);
+                                      const SelfCalibrationOptions& options, const std::string& where,
+                                      const ChessboardDetectorOptions& detector = {});
 
 }  // namespace slamcmp

@@ -553,6 +553,16 @@ std::vector<BadCase> cases() {
                       "--target"),
       emptyOptionCase("CalibrateOutEmpty", "calibrate --sequence {seq} --target {seq}/target.yaml --out ''",
                       "--out"),
+      {"CalibrateSubpixelUnknown",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         return Invocation{"calibrate --sequence " + tmp.file("seq") + " --target " + tmp.file("seq") +
+                               "/target.yaml --out " + tmp.file("c.yaml") + " --subpixel bilinear",
+                           {"--subpixel", "bilinear"}};
+       }},
+      configCase("ConfigSubpixelMethodUnknown",
+                 "%YAML:1.0\n---\ncslam:\n  board:\n    detector:\n      subpixel:\n        method: bilinear\n",
+                 "cslam.board.detector.subpixel.method"),
       emptyOptionCase("CompareOutEmpty", "compare --sequence {seq} --out ''", "--out"),
       emptyOptionCase("CompareSequenceEmpty", "compare --sequence '' --out {tmp}/c", "--sequence"),
       emptyOptionCase("ReproduceOutEmpty", "reproduce --frames 1 --out ''", "--out"),
