@@ -21,25 +21,28 @@ void SubpixelCornerOptions::check() const {
 namespace {
 
 constexpr double kExtraRadiusOverHalfWindow = 0.7, kMaxExtraRadius = 3.0;  // pixels
+constexpr double kMinDeterminantOverTrace2 = 0.01;
 
 // One corner; false (and `corner` unchanged) when its window has no junction or leaves the image.
 bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& options, cv::Point2f* corner) {
-  // The weights reach as far as cv::cornerSubPix's square window does along its diagonal: with a
-  // circle inside that square (half + 0.5) the real views' small windows (half 2-3 on Bouguet's
-  // images) hold too few pixels against the noise, and corners ran off by pixels.
-  // Near the image's border the circle shrinks to what the image holds, down to half + 0.5.
+  // The weights reach about as far as cv::cornerSubPix's square window does along its diagonal
+  // (at most 3 px beyond the circle inside it): with that inner circle (half + 0.5) the real
+  // views' small windows (half 2-3 on Bouguet's images) hold too few pixels against the noise, and
+  // corners ran off by pixels. Near the image's border the circle shrinks to what the image holds,
+  // down to half + 0.5.
   const double border = std::min({corner->x, corner->y, grey.cols - 1 - corner->x, grey.rows - 1 - corner->y});
+  if (!(border >= 0)) return false;  // off the image, or not a number
   const double radius = std::min(half + 0.5 + std::min(kExtraRadiusOverHalfWindow * half, kMaxExtraRadius),
                                  std::max(half + 0.5, border - 2.5));
   const double radius2 = radius * radius;
   const int reach = static_cast<int>(std::ceil(radius + 0.5));  // q is within half a pixel of the centre
-  // A blur wide against the window leaves no junction to place: half window 3 (16-20 px squares
-  // on tv3), 0.36 px RMS at 1.5 px, 0.021 at 0.75, cv::cornerSubPix 0.039; half window 2 (the
-  // test's junctions), 0.057 px at 0.6, 0.020 at 0.3 or none, cv::cornerSubPix 0.035.
+  // A blur wide against the window leaves no junction to place (half window 3, before the radius
+  // grew: 0.36 px RMS at 1.5 px against 0.021 at 0.75): at most half the window beyond 1.5 px.
   const double sigma = std::clamp(0.5 * (half - 1.5), 0.0, options.smoothing_sigma_px);
   // The window: one pixel beyond the weights (central differences), which must be in the image,
-  // and the blur's support beyond that, cut by the image's border (replicated there).
-  const int core = reach + 1, extent = core + static_cast<int>(std::ceil(3 * sigma));
+  // and the blur's support beyond that (OpenCV's float kernel reaches 4 sigma), cut by the image's
+  // border (replicated there).
+  const int core = reach + 1, extent = core + static_cast<int>(std::ceil(4 * sigma));
   const cv::Rect image(0, 0, grey.cols, grey.rows);
   double qx = corner->x, qy = corner->y;
   cv::Mat smooth;
@@ -47,7 +50,6 @@ bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& op
   int cx = 0, cy = 0;  // the pixel the window is centred on
   bool have_window = false;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
-    if (!std::isfinite(qx) || !std::isfinite(qy)) return false;
     const int ix = static_cast<int>(std::lround(qx)), iy = static_cast<int>(std::lround(qy));
     if (!have_window || ix != cx || iy != cy) {
       const cv::Rect needed(ix - core, iy - core, 2 * core + 1, 2 * core + 1);
@@ -81,16 +83,16 @@ bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& op
       }
     }
     const double det = a * c - b * b;
-    // Both directions of gradient needed: a lone edge (or a flat window) places no corner.
-    if (!(det > 1e-9 * (a + c) * (a + c))) return false;
+    // Both directions of gradient needed: a lone edge (or a flat window) places no corner. The
+    // ratio is 0.25 at a right-angled junction, above 0.03 at a 20-degree one.
+    if (!(det > kMinDeterminantOverTrace2 * (a + c) * (a + c))) return false;
     const double step_x = (c * rx - b * ry) / det, step_y = (a * ry - b * rx) / det;
     qx += step_x, qy += step_y;
     // Run out of its window: the junction was not where the corner started (on Bouguet's images a
     // weak window ran 80 px).
-    if (std::hypot(qx - corner->x, qy - corner->y) > radius) return false;
+    if (!(std::hypot(qx - corner->x, qy - corner->y) <= radius)) return false;  // NaN fails too
     if (step_x * step_x + step_y * step_y < options.epsilon_px * options.epsilon_px) break;
   }
-  if (!std::isfinite(qx) || !std::isfinite(qy)) return false;
   *corner = cv::Point2f(static_cast<float>(qx), static_cast<float>(qy));
   return true;
 }
@@ -100,17 +102,21 @@ bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& op
 void refineCornersSubpixel(const cv::Mat& grey, int half_window, std::vector<cv::Point2f>& uv,
                            const SubpixelCornerOptions& options) {
   CV_Assert(grey.type() == CV_8UC1 && half_window >= 1);
+  const auto opencv = [&](std::vector<cv::Point2f>& corners) {
+    if (corners.empty()) return;
+    cv::cornerSubPix(grey, corners, cv::Size(half_window, half_window), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, options.max_iterations,
+                                      options.epsilon_px));
+  };
+  if (options.method == "opencv") return opencv(uv);
   std::vector<cv::Point2f> unplaced;
   std::vector<size_t> where;
   for (size_t k = 0; k < uv.size(); ++k)
-    if (options.method == "opencv" || !refineCorner(grey, half_window, options, &uv[k])) {
+    if (!refineCorner(grey, half_window, options, &uv[k])) {
       unplaced.push_back(uv[k]);
       where.push_back(k);
     }
-  if (unplaced.empty()) return;
-  cv::cornerSubPix(grey, unplaced, cv::Size(half_window, half_window), cv::Size(-1, -1),
-                   cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, options.max_iterations,
-                                    options.epsilon_px));
+  opencv(unplaced);
   for (size_t k = 0; k < where.size(); ++k) uv[where[k]] = unplaced[k];
 }
 

@@ -25,9 +25,9 @@ struct SubpixelCornerOptions {
   // frames, 2x better with the whole board 3x better, hold 1.1 of it where the test holds 1.0;
   // hybrid's tracked points, board_leaves seeds 1 and 2, just over the away allowance).
   std::string method = "opencv";
-  // The Gaussian smoothing before the gradients, pixels, at most half the window's radius beyond
-  // 2 px: on the renders (lens blur 0.7 px, half window 5) the corners' RMS error is 0.024 px
-  // without it, 0.014 with 1.0, 0.011 with 1.5, 0.012 with 2.0.
+  // The Gaussian smoothing before the gradients, pixels, at most half the half window beyond
+  // 1.5 px: on the renders (lens blur 0.7 px; half window 5, before the radius grew) the corners'
+  // RMS error was 0.024 px without it, 0.014 with 1.0, 0.011 with 1.5.
   double smoothing_sigma_px = 1.5;
   int max_iterations = 30;
   double epsilon_px = 0.001;  // the iteration stops when the corner moves less than this
@@ -36,7 +36,7 @@ struct SubpixelCornerOptions {
     v("method", method,
       "gradient (Foerstner's gradient orthogonality on the smoothed pixel grid) or opencv (cv::cornerSubPix, "
       "biased by up to 0.05 px towards the nearest half pixel)");
-    v("smoothing_sigma_px", smoothing_sigma_px, "gradient: Gaussian smoothing of the image before the gradients (at most half the window radius beyond 2 px), pixels");
+    v("smoothing_sigma_px", smoothing_sigma_px, "gradient: Gaussian smoothing of the image before the gradients (at most half the half window beyond 1.5 px), pixels");
     v("max_iterations", max_iterations, "iterations at most per corner");
     v("epsilon_px", epsilon_px, "the iteration stops when the corner moves less than this, pixels");
   }

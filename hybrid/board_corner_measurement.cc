@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "core/subpixel_corner.h"
 #include "core/error.h"
 #include "core/options.h"
 #include "ekf/measurement_model.h"
@@ -42,7 +43,6 @@ void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
 namespace {
 
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
-
 
 }  // namespace
 

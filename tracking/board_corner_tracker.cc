@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "core/subpixel_corner.h"
 #include "core/error.h"
 #include "core/statistics.h"
 #include "geometry/homography_pose.h"
@@ -395,6 +396,7 @@ std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& 
   // reaches the corner from up to the radius away, and no other corner); their median shift
   // moves the whole prediction (a pose error shifts the board as a whole).
   std::vector<cv::Point2f> wide = in.uv;
+  // Only their median shift is used: cv::cornerSubPix's bias (core/subpixel_corner.h) is immaterial.
   cv::cornerSubPix(grey, wide, cv::Size(radius, radius), cv::Size(-1, -1),
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 20, 0.01));
   std::vector<double> dx, dy;

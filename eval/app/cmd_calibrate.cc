@@ -16,7 +16,7 @@ void addCalibrateCommand(CLI::App& app) {
                                  "calibrate the camera (intrinsics and distortion, Zhang's method) from "
                                  "the chessboard views of a sequence, video or image folder; writes camera.yaml");
   struct Args {
-    std::string sequence, target, out, subpixel = "opencv";
+    std::string sequence, target, out, subpixel = SubpixelCornerOptions{}.method;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("--sequence", args->sequence, "sequence folder (rgb.txt), image folder or video file")->check(nonEmptyPath())->required();
@@ -24,7 +24,7 @@ void addCalibrateCommand(CLI::App& app) {
   cmd->add_option("--out", args->out, "camera.yaml to write")->check(nonEmptyPath())->required();
   cmd->add_option("--subpixel", args->subpixel,
                   "corner refinement: opencv (cv::cornerSubPix) or gradient (core/subpixel_corner.h: Bouguet's "
-                  "images 0.24 px against 0.48)")
+                  "images 0.40 px against 0.48)")
       ->check(CLI::IsMember({"opencv", "gradient"}))
       ->capture_default_str();
   cmd->callback([args] {
