@@ -10,7 +10,7 @@
 namespace slamcmp {
 
 void SubpixelCornerOptions::check() const {
-  if (method != "gradient" && method != "opencv")
+  if (std::find(kMethods.begin(), kMethods.end(), method) == kMethods.end())
     throw OptionError("method", "must be gradient or opencv, got '" + method + "'");
   if (!(smoothing_sigma_px >= 0 && smoothing_sigma_px <= 5))
     throw OptionError("smoothing_sigma_px", "must be in [0, 5] pixels");

@@ -19,6 +19,7 @@
 namespace slamcmp {
 
 struct SubpixelCornerOptions {
+  static inline const std::vector<std::string> kMethods{"gradient", "opencv"};
   // "gradient" (the method above) or "opencv" (cv::cornerSubPix, the thesis's and SceneLib's). Not
   // yet the default: with it three regressions at shortened length move (cslam's calibration mode
   // finds wall_turn's returning board a frame late at supersample 1; board_leaves' half-board
@@ -36,7 +37,9 @@ struct SubpixelCornerOptions {
     v("method", method,
       "gradient (Foerstner's gradient orthogonality on the smoothed pixel grid) or opencv (cv::cornerSubPix, "
       "biased by up to 0.05 px towards the nearest half pixel)");
-    v("smoothing_sigma_px", smoothing_sigma_px, "gradient: Gaussian smoothing of the image before the gradients (at most half the half window beyond 1.5 px), pixels");
+    v("smoothing_sigma_px", smoothing_sigma_px,
+      "gradient: Gaussian smoothing of the image before the gradients (at most half the half window beyond "
+      "1.5 px), pixels");
     v("max_iterations", max_iterations, "iterations at most per corner");
     v("epsilon_px", epsilon_px, "the iteration stops when the corner moves less than this, pixels");
   }

@@ -7,9 +7,9 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "core/subpixel_corner.h"
 #include "core/error.h"
 #include "core/statistics.h"
+#include "core/subpixel_corner.h"
 #include "geometry/homography_pose.h"
 
 namespace slamcmp {

@@ -25,7 +25,7 @@ void addCalibrateCommand(CLI::App& app) {
   cmd->add_option("--subpixel", args->subpixel,
                   "corner refinement: opencv (cv::cornerSubPix) or gradient (core/subpixel_corner.h: Bouguet's "
                   "images 0.40 px against 0.48)")
-      ->check(CLI::IsMember({"opencv", "gradient"}))
+      ->check(CLI::IsMember(SubpixelCornerOptions::kMethods))
       ->capture_default_str();
   cmd->callback([args] {
     SequenceOpenOptions open;
