@@ -13,6 +13,8 @@ void BoardOdometryFusionOptions::check() const {
   if (!(fast_rotation_deg > 0)) throw OptionError("fast_rotation_deg", "must be positive");
   if (!(max_motion_residual_px > 0)) throw OptionError("max_motion_residual_px", "must be positive");
   if (max_held_frames < 0) throw OptionError("max_held_frames", "must be 0 or more");
+  if (!(map_drift_fraction >= 0 && map_drift_fraction <= 1))
+    throw OptionError("map_drift_fraction", "must be between 0 and 1");
 }
 
 PoseWithCovariance poseWithCovariance(const SE3& T_camera_world, const std::vector<Vec3>& p_world,

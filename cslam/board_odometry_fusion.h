@@ -42,6 +42,12 @@ struct BoardOdometryFusionOptions {
   // pulled the fused pose 1.2 mm off for 10 frames: the 30 frames after its return 1.30 -> 0.81
   // times the settled error; the gate fires in 0-6 of ~200 board frames on the presets.
   int max_held_frames = 1;
+  // When the board returns after a gap the filter restarts from the board and the refined map
+  // together, and the map's points are trusted to this fraction of the path travelled since the
+  // board was last seen (the presets' gaps drift 0.15-0.6 %). 0: as if they had not drifted,
+  // which suits cv::cornerSubPix's corners (a strip's pose leans with their bias); with the
+  // gradient corners 0.002 halves board_leaves' half-board error (configs/cslam_gradient.yaml).
+  double map_drift_fraction = 0;
   template <class V>
   void visit(V& v) {
     v("enabled", enabled, "fuse each board pose with the features' frame-to-frame motion (combined mode)");
@@ -62,6 +68,9 @@ struct BoardOdometryFusionOptions {
     v("max_held_frames", max_held_frames,
       "frames in a row whose board pose beyond max_mahalanobis2 is taken for an outlier (the prediction stands) "
       "before the prediction gives way (0: it always gives way)");
+    v("map_drift_fraction", map_drift_fraction,
+      "when the board returns after a gap, the map's points are trusted to this fraction of the path travelled "
+      "since it was last seen (0: as if they had not drifted)");
   }
   void check() const;
 };

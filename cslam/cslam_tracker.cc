@@ -35,6 +35,8 @@ constexpr int kMaxFramesPredicted = 5;
 // The fusion's motion is measured on the thesis's map when it holds this many of the tracked
 // features, else on the refined map.
 constexpr int kMinThesisMotionPoints = 30;
+// A map point's depth below this (metres) is taken as this when the drift is turned into pixels.
+constexpr double kMinDriftDepthM = 0.1;
 // A point of the features' motion is dropped beyond this many times the median residual (and
 // fusion.max_motion_residual_px), as a board corner is (tracking/board_corner_tracker.cc).
 constexpr double kMaxMotionResidualOverMedian = 3.0;
@@ -251,9 +253,11 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   // The filter (re)starts, e.g. when the board returns after a gap, or has no motion to go by:
   // from the board and the refined map together, whose points (found again, many of them placed
   // while the board was seen) hold the board's tilt that a single view of it (a strip of it at
-  // the image's edge above all) leaves loose.
+  // the image's edge above all) leaves loose; after a gap they are trusted only as far as the
+  // path since the board may have moved them (fusion.map_drift_fraction).
   std::optional<PoseWithCovariance> start;
-  if ((fusion_.restarting() || !motion) && window_) start = boardAndMapPose(board, xy);
+  if ((fusion_.restarting() || !motion) && window_)
+    start = boardAndMapPose(board, xy, options_.fusion.map_drift_fraction * path_without_board_m_);
   const SE3 T_camera_world = fusion_.update(board_pose, motion, start ? &*start : nullptr);
   if (fusion_.heldLastBoard())
     result->reason += std::string(result->reason.empty() ? "" : "; ") +
@@ -261,11 +265,23 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   return T_camera_world.inverse();
 }
 
-std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board,
-                                                                const std::vector<Vec2>& xy) const {
+std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy,
+                                                                double map_drift_m) const {
   const MapCorrespondences seen = mapPointsSeen(xy);
   if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
-  const double sigma_board = options_.refinement.board_sigma_px, sigma_map = options_.refinement.feature_sigma_px;
+  const double sigma_board = options_.refinement.board_sigma_px;
+  double sigma_map = options_.refinement.feature_sigma_px;
+  if (map_drift_m > 0) {
+    // The drift moved the map's points together: an error they share, whose weight does not grow
+    // with their number, so each point's variance grows by n times the drift's image shift at the
+    // points' median depth.
+    std::vector<double> depth;
+    const SE3 T_camera_world = board.T_world_camera.inverse();
+    for (const Vec3& p : seen.p_world) depth.push_back((T_camera_world * p).z());
+    const double n = static_cast<double>(depth.size());
+    const double shift_px = focal_px_ * map_drift_m / std::max(median(std::move(depth)), kMinDriftDepthM);
+    sigma_map = std::sqrt(sigma_map * sigma_map + n * shift_px * shift_px);
+  }
   BundleAdjustment ba;
   const int camera = ba.addCamera(board.T_world_camera.inverse(), false);
   for (size_t k = 0; k < board.p_world.size(); ++k)
@@ -618,6 +634,10 @@ FrameResult CslamTracker::track(const Frame& frame) {
       ++posed_frames_;
     }
   }
+  if (board)
+    path_without_board_m_ = 0;
+  else if (T_world_camera && last_pose_)
+    path_without_board_m_ += (T_world_camera->t() - last_pose_->t()).norm();
   last_pose_ = T_world_camera;
   if (!T_world_camera) {
     result.status = TrackStatus::Lost;
@@ -667,7 +687,7 @@ SE3 CslamTracker::addKeyframe(const Frame& frame, const PosedFrame& posed, const
     // The board is back and the map re-anchored to it: this frame's pose from both, and the
     // fusion starts again from there.
     result->reason = "board back: the gap's keyframes and map points re-anchored";
-    if (const auto joint = boardAndMapPose(*board, xy)) {
+    if (const auto joint = boardAndMapPose(*board, xy, 0)) {
       if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
       return joint->T_camera_world.inverse();
     }

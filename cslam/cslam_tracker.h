@@ -140,8 +140,10 @@ class CslamTracker : public Tracker {
   // the features' coordinates).
   SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index, FrameResult* result);
   // The pose from the board's corners and the refined map's points together (weighted by their
-  // standard deviations), with its covariance; empty with too few map points.
-  std::optional<PoseWithCovariance> boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy) const;
+  // standard deviations, the map's also by map_drift_m, how far it may have drifted as a whole),
+  // with its covariance; empty with too few map points.
+  std::optional<PoseWithCovariance> boardAndMapPose(const BoardView& board, const std::vector<Vec2>& xy,
+                                                    double map_drift_m) const;
   // The pose fitted to map points seen at xy_normalised, refined from T_world_start, with its
   // covariance.
   PoseWithCovariance mapPose(const SE3& T_world_start, const std::vector<Vec3>& p_world,
@@ -213,6 +215,7 @@ class CslamTracker : public Tracker {
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;
   std::optional<SE3> last_pose_;    // the previous frame's, if it had one
+  double path_without_board_m_ = 0;  // travelled (as posed) since the last frame with the board
   std::optional<SE3> T_world_predicted_;  // this frame's, by the motion model
   std::deque<PosedFrame> history_;  // the last posed frames, oldest first
   bool two_view_board_phase_ = true;
