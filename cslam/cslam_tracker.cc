@@ -257,7 +257,7 @@ SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2
   // path since the board may have moved them (fusion.map_drift_fraction).
   std::optional<PoseWithCovariance> start;
   if ((fusion_.restarting() || !motion) && window_)
-    start = boardAndMapPose(board, xy, options_.fusion.map_drift_fraction * path_without_board_m_);
+    start = boardAndMapPose(board, xy, options_.fusion.map_drift_fraction * path_since_anchor_m_);
   const SE3 T_camera_world = fusion_.update(board_pose, motion, start ? &*start : nullptr);
   if (fusion_.heldLastBoard())
     result->reason += std::string(result->reason.empty() ? "" : "; ") +
@@ -270,20 +270,20 @@ std::optional<PoseWithCovariance> CslamTracker::boardAndMapPose(const BoardView&
   const MapCorrespondences seen = mapPointsSeen(xy);
   if (static_cast<int>(seen.p_world.size()) < options_.min_scale_points) return std::nullopt;
   const double sigma_board = options_.refinement.board_sigma_px;
+  const SE3 T_camera_world_by_board = board.T_world_camera.inverse();  // from the board alone
   double sigma_map = options_.refinement.feature_sigma_px;
   if (map_drift_m > 0) {
     // The drift moved the map's points together: an error they share, whose weight does not grow
-    // with their number, so each point's variance grows by n times the drift's image shift at the
-    // points' median depth.
+    // with their number, so each point's variance grows by n times the square of the drift's
+    // image shift at the points' median depth.
     std::vector<double> depth;
-    const SE3 T_camera_world = board.T_world_camera.inverse();
-    for (const Vec3& p : seen.p_world) depth.push_back((T_camera_world * p).z());
+    for (const Vec3& p : seen.p_world) depth.push_back((T_camera_world_by_board * p).z());
     const double n = static_cast<double>(depth.size());
     const double shift_px = focal_px_ * map_drift_m / std::max(median(std::move(depth)), kMinDriftDepthM);
     sigma_map = std::sqrt(sigma_map * sigma_map + n * shift_px * shift_px);
   }
   BundleAdjustment ba;
-  const int camera = ba.addCamera(board.T_world_camera.inverse(), false);
+  const int camera = ba.addCamera(T_camera_world_by_board, false);
   for (size_t k = 0; k < board.p_world.size(); ++k)
     ba.addObservation(camera, ba.addPoint(board.p_world[k], true), board.xy[k], sigma_board);
   for (size_t k = 0; k < seen.p_world.size(); ++k)
@@ -634,10 +634,12 @@ FrameResult CslamTracker::track(const Frame& frame) {
       ++posed_frames_;
     }
   }
-  if (board)
-    path_without_board_m_ = 0;
-  else if (T_world_camera && last_pose_)
-    path_without_board_m_ += (T_world_camera->t() - last_pose_->t()).norm();
+  // The path the map may have drifted over: frames posed without the board add to it, a view of
+  // the board that anchors the map ends it, a strip of the board does neither.
+  if (T_world_camera && !board && last_posed_centre_)
+    path_since_anchor_m_ += (T_world_camera->t() - *last_posed_centre_).norm();
+  if (board && window_ && window_->anchors(static_cast<int>(board->ids.size()))) path_since_anchor_m_ = 0;
+  if (T_world_camera) last_posed_centre_ = T_world_camera->t();
   last_pose_ = T_world_camera;
   if (!T_world_camera) {
     result.status = TrackStatus::Lost;
@@ -687,6 +689,7 @@ SE3 CslamTracker::addKeyframe(const Frame& frame, const PosedFrame& posed, const
     // The board is back and the map re-anchored to it: this frame's pose from both, and the
     // fusion starts again from there.
     result->reason = "board back: the gap's keyframes and map points re-anchored";
+    // The map was just re-anchored to the board: no drift left in it.
     if (const auto joint = boardAndMapPose(*board, xy, 0)) {
       if (mode_ == Mode::Combined && options_.fusion.enabled) fusion_.restartFrom(*joint);
       return joint->T_camera_world.inverse();

@@ -215,7 +215,8 @@ class CslamTracker : public Tracker {
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;
   std::optional<SE3> last_pose_;    // the previous frame's, if it had one
-  double path_without_board_m_ = 0;  // travelled (as posed) since the last frame with the board
+  std::optional<Vec3> last_posed_centre_;  // the last posed frame's camera centre
+  double path_since_anchor_m_ = 0;         // travelled without the board since it last anchored the map
   std::optional<SE3> T_world_predicted_;  // this frame's, by the motion model
   std::deque<PosedFrame> history_;  // the last posed frames, oldest first
   bool two_view_board_phase_ = true;

@@ -42,8 +42,8 @@ constexpr double kMaxWeakDepth = 50;
 KeyframeWindow::KeyframeWindow(const KeyframeWindowOptions& options, double focal_px, std::vector<Vec3> corners_world)
     : options_(options), focal_px_(focal_px), corners_world_(std::move(corners_world)) {}
 
-bool KeyframeWindow::anchors(const Keyframe& keyframe) const {
-  return static_cast<double>(keyframe.board_ids.size()) >=
+bool KeyframeWindow::anchors(int board_corners) const {
+  return static_cast<double>(board_corners) >=
          std::max(1.0, options_.anchor_board_fraction * static_cast<double>(corners_world_.size()));
 }
 

@@ -106,6 +106,8 @@ class KeyframeWindow {
   std::vector<MapPointCandidate> untrackedPoints(const std::vector<int>& tracked_ids) const;
   std::vector<MapPoint> points() const;
   int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
+  // A view of this many board corners is enough of the board to anchor the map (end a gap).
+  bool anchors(int board_corners) const;
 
  private:
   struct Track {
@@ -125,7 +127,7 @@ class KeyframeWindow {
   // The board's return after keyframes without it: returns whether the gap was corrected.
   bool reanchorGap();
   void dropOldest();
-  bool anchors(const Keyframe& keyframe) const;  // it sees enough of the board to end a gap
+  bool anchors(const Keyframe& keyframe) const { return anchors(static_cast<int>(keyframe.board_ids.size())); }
 
   KeyframeWindowOptions options_;
   double focal_px_;
