@@ -46,6 +46,7 @@ void ActiveSearchOptions::check() const {
   require(max_candidates >= 1, "max_candidates", "must be at least 1");
   require(joint_gate > 0 && joint_gate < 1, "joint_gate", "must be in (0, 1)");
   require(consistency_gate > 0 && consistency_gate < 1, "consistency_gate", "must be in (0, 1)");
+  require(min_variance_factor >= 0 && min_variance_factor <= 1, "min_variance_factor", "must be in [0, 1]");
   require(source_size >= patch_size && source_size % 2 == 1, "source_size",
           "must be odd and at least patch_size, got " + std::to_string(source_size));
 }

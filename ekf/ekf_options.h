@@ -67,6 +67,11 @@ struct ActiveSearchOptions {
   int max_candidates = 6;            // correlation peaks kept per feature for the association
   double joint_gate = 0.99;          // joint compatibility test probability (chi2 of 2k dof)
   double consistency_gate = 0.999;   // each match against the others' prediction of it (chi2, 2 dof)
+  // That test with the noise the others show rather than pixel_sigma (Pope's tau test, 1976): their
+  // a posteriori variance factor, at most 1 and at least this. Matches found to 0.3 px hide a 4.7 px
+  // look-alike from a test that assumes 1 px (board_leaves seed 3 as the board leaves: d2 11.6 of
+  // 13.8; the camera 10 mm off). 0: the assumed noise, as SceneLib tests.
+  double min_variance_factor = 0;
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   template <class V>
   void visit(V& v) {
@@ -81,6 +86,9 @@ struct ActiveSearchOptions {
     v("joint_gate", joint_gate, "joint compatibility test probability (chi2 of 2k dof)");
     v("consistency_gate", consistency_gate,
       "probability of the test of each match against the others' prediction of it (chi2, 2 dof)");
+    v("min_variance_factor", min_variance_factor,
+      "that test with the noise the other matches show (Pope's tau test): their a posteriori variance factor, at most "
+      "1, at least this; 0: with pixel_sigma as assumed");
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
   }
   void check() const;

@@ -21,6 +21,19 @@ namespace {
 
 // Joint compatibility among each searched feature's candidates, then each match against the
 // others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order.
+// Pope's tau test needs the others to say something of the noise: at least this many matches.
+constexpr int kMinMatchesForVarianceFactor = 4;
+
+// The threshold of a match's chi2 (2 dof) against the others when the noise's variance factor is
+// the others' own, others_d2 over its dof (clamped to [min_variance_factor, 1]): the statistic
+// (d2 / 2) / factor is Fisher's F(2, dof), whose quantile is (dof / 2)((1 - p)^(-2 / dof) - 1).
+double tauThreshold(double others_d2, int dof, const ActiveSearchOptions& so) {
+  const double n = dof;
+  const double factor = std::clamp(others_d2 / n, so.min_variance_factor, 1.0);
+  const double f_quantile = n / 2 * (std::pow(1 - so.consistency_gate, -2 / n) - 1);
+  return 2 * factor * f_quantile;
+}
+
 std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointObservation>& searched,
                                       const std::vector<std::vector<Vec2>>& candidates_uv,
                                       const ActiveSearchOptions& so) {
@@ -47,12 +60,15 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
     for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
     const Eigen::VectorXd S_inv_nu = S.solve(nu);
     const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
+    const double joint = nu.dot(S_inv_nu);
     int worst = -1;
     double worst_d2 = consistency_threshold;
     for (int k = 0; k < m; ++k) {
       // (S^-1 nu)_k^T ((S^-1)_kk)^-1 (S^-1 nu)_k: the chi2 of match k given all the others.
       const Vec2 a = S_inv_nu.segment<2>(2 * k);
-      const double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+      double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+      if (so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor)
+        d2 *= consistency_threshold / tauThreshold(joint - d2, 2 * m - 2, so);
       if (d2 > worst_d2) {
         worst_d2 = d2;
         worst = k;

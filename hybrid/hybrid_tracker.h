@@ -40,7 +40,14 @@ struct HybridStartOptions {
 };
 
 struct HybridOptions {
-  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
+  // Listed flat: motion, search, feature_init, map, health, reporting. monoslam's, but each match
+  // is tested against the others with the noise they show (search.min_variance_factor): beside
+  // corners at 0.2 px a feature's assumed 1 px hid look-alikes (issue 14; README).
+  EkfSlamOptions filter = [] {
+    EkfSlamOptions f;
+    f.search.min_variance_factor = 0.1;
+    return f;
+  }();
   HybridStartOptions start;
   BoardCornerMeasurementOptions corners;
   TrackedMotionOptions tracked_motion;

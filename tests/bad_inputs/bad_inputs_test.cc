@@ -563,6 +563,8 @@ std::vector<BadCase> cases() {
       configCase("ConfigSubpixelMethodUnknown",
                  "%YAML:1.0\n---\ncslam:\n  board:\n    detector:\n      subpixel:\n        method: bilinear\n",
                  "cslam.board.detector.subpixel.method"),
+      configCase("ConfigMinVarianceFactorAboveOne", "%YAML:1.0\n---\nhybrid:\n  search:\n    min_variance_factor: 2\n",
+                 "hybrid.search.min_variance_factor", "hybrid"),
       configCase("ConfigMapDriftFractionNegative", "%YAML:1.0\n---\ncslam:\n  fusion:\n    map_drift_fraction: -0.01\n",
                  "cslam.fusion.map_drift_fraction"),
       emptyOptionCase("CompareOutEmpty", "compare --sequence {seq} --out ''", "--out"),
