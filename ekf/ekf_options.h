@@ -67,10 +67,10 @@ struct ActiveSearchOptions {
   int max_candidates = 6;            // correlation peaks kept per feature for the association
   double joint_gate = 0.99;          // joint compatibility test probability (chi2 of 2k dof)
   double consistency_gate = 0.999;   // each match against the others' prediction of it (chi2, 2 dof)
-  // That test with the noise the others show rather than pixel_sigma (Pope's tau test, 1976): their
-  // a posteriori variance factor, at most 1 and at least this. Matches found to 0.3 px hide a 4.7 px
-  // look-alike from a test that assumes 1 px (board_leaves seed 3 as the board leaves: d2 11.6 of
-  // 13.8; the camera 10 mm off). 0: the assumed noise, as SceneLib tests.
+  // That test with the noise the others show (Pope's tau test, 1976): the variance factor of their
+  // innovations, at least this, and never a looser test than with S as assumed. An overcautious S
+  // (1 px assumed, matches found to a third of it) hides a look-alike a few pixels off (README).
+  // 0: S as assumed, as SceneLib tests.
   double min_variance_factor = 0;
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   template <class V>
@@ -87,8 +87,8 @@ struct ActiveSearchOptions {
     v("consistency_gate", consistency_gate,
       "probability of the test of each match against the others' prediction of it (chi2, 2 dof)");
     v("min_variance_factor", min_variance_factor,
-      "that test with the noise the other matches show (Pope's tau test): their a posteriori variance factor, at most "
-      "1, at least this; 0: with pixel_sigma as assumed");
+      "that test with the noise the other matches show (Pope's tau test): the variance factor of their innovations, "
+      "at least this, never looser than the test as assumed; 0: the innovations' covariance as assumed");
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
   }
   void check() const;

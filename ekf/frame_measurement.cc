@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -19,21 +20,23 @@ namespace slamcmp {
 
 namespace {
 
-// Joint compatibility among each searched feature's candidates, then each match against the
-// others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order.
 // Pope's tau test needs the others to say something of the noise: at least this many matches.
 constexpr int kMinMatchesForVarianceFactor = 4;
 
-// The threshold of a match's chi2 (2 dof) against the others when the noise's variance factor is
-// the others' own, others_d2 over its dof (clamped to [min_variance_factor, 1]): the statistic
-// (d2 / 2) / factor is Fisher's F(2, dof), whose quantile is (dof / 2)((1 - p)^(-2 / dof) - 1).
-double tauThreshold(double others_d2, int dof, const ActiveSearchOptions& so) {
+// The threshold of a match's chi2 (2 dof) against the others when the variance factor of S is the
+// others' own, others_d2 over its dof (at least min_variance_factor): the statistic (d2 / 2) /
+// factor is Fisher's F(2, dof), whose quantile is (dof / 2)((1 - p)^(-2 / dof) - 1). Never above
+// chi2_threshold, the test with S as assumed: others noisier than assumed do not loosen it.
+double tauThreshold(double others_d2, int dof, double chi2_threshold, const ActiveSearchOptions& so) {
   const double n = dof;
-  const double factor = std::clamp(others_d2 / n, so.min_variance_factor, 1.0);
+  const double factor = std::max(others_d2 / n, so.min_variance_factor);
   const double f_quantile = n / 2 * (std::pow(1 - so.consistency_gate, -2 / n) - 1);
-  return 2 * factor * f_quantile;
+  const double threshold = 2 * factor * f_quantile;
+  return std::isfinite(threshold) ? std::min(threshold, chi2_threshold) : chi2_threshold;
 }
 
+// Joint compatibility among each searched feature's candidates, then each match against the
+// others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order.
 std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointObservation>& searched,
                                       const std::vector<std::vector<Vec2>>& candidates_uv,
                                       const ActiveSearchOptions& so) {
@@ -67,8 +70,11 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
       // (S^-1 nu)_k^T ((S^-1)_kk)^-1 (S^-1 nu)_k: the chi2 of match k given all the others.
       const Vec2 a = S_inv_nu.segment<2>(2 * k);
       double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+      // On the chi2 threshold's scale, so that the worst is the least likely (a statistic that is
+      // not a number counts as the worst).
       if (so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor)
-        d2 *= consistency_threshold / tauThreshold(joint - d2, 2 * m - 2, so);
+        d2 *= consistency_threshold / tauThreshold(joint - d2, 2 * m - 2, consistency_threshold, so);
+      if (!std::isfinite(d2)) d2 = std::numeric_limits<double>::infinity();
       if (d2 > worst_d2) {
         worst_d2 = d2;
         worst = k;
