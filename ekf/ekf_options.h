@@ -70,8 +70,8 @@ struct ActiveSearchOptions {
   // That test with the noise the others show (Pope's tau test, 1976): the variance factor of their
   // innovations, at least this, and never a looser test than with S as assumed. An overcautious S
   // (1 px assumed, matches found to a third of it) hides a look-alike a few pixels off (README).
-  // 0: S as assumed, as SceneLib tests.
-  double min_variance_factor = 0;
+  // 0: S as assumed.
+  double min_variance_factor = 0.1;
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   template <class V>
   void visit(V& v) {

@@ -40,14 +40,7 @@ struct HybridStartOptions {
 };
 
 struct HybridOptions {
-  // Listed flat: motion, search, feature_init, map, health, reporting. monoslam's, but each patch
-  // match is tested against the others with the noise they show (search.min_variance_factor): the
-  // assumed 1 px hid look-alikes among matches found to a third of it (issue 14; README).
-  EkfSlamOptions filter = [] {
-    EkfSlamOptions f;
-    f.search.min_variance_factor = 0.1;
-    return f;
-  }();
+  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
   HybridStartOptions start;
   BoardCornerMeasurementOptions corners;
   TrackedMotionOptions tracked_motion;
