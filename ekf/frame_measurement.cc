@@ -23,14 +23,18 @@ namespace {
 // Pope's tau test needs the others to say something of the noise: at least this many matches.
 constexpr int kMinMatchesForVarianceFactor = 4;
 
+// Fisher's F(2, dof) quantile at probability p: (dof / 2)((1 - p)^(-2 / dof) - 1).
+double fisherQuantile2(int dof, double p) {
+  const double n = dof;
+  return n / 2 * (std::pow(1 - p, -2 / n) - 1);
+}
+
 // The threshold of a match's chi2 (2 dof) against the others when the variance factor of S is the
 // others' own, others_d2 over its dof (at least min_variance_factor): the statistic (d2 / 2) /
-// factor is Fisher's F(2, dof), whose quantile is (dof / 2)((1 - p)^(-2 / dof) - 1). Never above
-// chi2_threshold, the test with S as assumed: others noisier than assumed do not loosen it.
-double tauThreshold(double others_d2, int dof, double chi2_threshold, const ActiveSearchOptions& so) {
-  const double n = dof;
-  const double factor = std::max(others_d2 / n, so.min_variance_factor);
-  const double f_quantile = n / 2 * (std::pow(1 - so.consistency_gate, -2 / n) - 1);
+// factor is F(2, dof), with f_quantile its quantile. Never above chi2_threshold, the test with S as
+// assumed: others noisier than assumed do not loosen it.
+double tauThreshold(double others_d2, int dof, double f_quantile, double chi2_threshold, double min_variance_factor) {
+  const double factor = std::max(others_d2 / dof, min_variance_factor);
   const double threshold = 2 * factor * f_quantile;
   return std::isfinite(threshold) ? std::min(threshold, chi2_threshold) : chi2_threshold;
 }
@@ -64,6 +68,8 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
     const Eigen::VectorXd S_inv_nu = S.solve(nu);
     const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
     const double joint = nu.dot(S_inv_nu);
+    const bool tau = so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor;
+    const double f_quantile = tau ? fisherQuantile2(2 * m - 2, so.consistency_gate) : 0;
     int worst = -1;
     double worst_d2 = consistency_threshold;
     for (int k = 0; k < m; ++k) {
@@ -72,8 +78,9 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
       double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
       // On the chi2 threshold's scale, so that the worst is the least likely (a statistic that is
       // not a number counts as the worst).
-      if (so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor)
-        d2 *= consistency_threshold / tauThreshold(joint - d2, 2 * m - 2, consistency_threshold, so);
+      if (tau)
+        d2 *= consistency_threshold /
+              tauThreshold(joint - d2, 2 * m - 2, f_quantile, consistency_threshold, so.min_variance_factor);
       if (!std::isfinite(d2)) d2 = std::numeric_limits<double>::infinity();
       if (d2 > worst_d2) {
         worst_d2 = d2;

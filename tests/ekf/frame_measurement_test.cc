@@ -48,6 +48,14 @@ struct Scene {
   }
 };
 
+// The scene's features measured, each match tested against the others with this variance floor
+// (ActiveSearchOptions::min_variance_factor; 0: with the covariance as assumed).
+FrameMeasurement measureWithFloor(Scene& scene, double min_variance_factor) {
+  ActiveSearchOptions options;
+  options.min_variance_factor = min_variance_factor;
+  return measureFeatures(scene.state, scene.features, scene.camera, scene.grey, options);
+}
+
 TEST(FrameMeasurement, AMatchTheOthersContradictIsDropped) {
   Scene scene(6.0);
   ActiveSearchOptions options;
@@ -83,9 +91,7 @@ TEST(FrameMeasurement, ASmallSlipIsDroppedWithTheNoiseTheOthersShow) {
   for (double factor : {0.0, 0.1}) {
     SCOPED_TRACE(factor);
     Scene scene(3.0);
-    ActiveSearchOptions options;
-    options.min_variance_factor = factor;
-    const FrameMeasurement m = measureFeatures(scene.state, scene.features, scene.camera, scene.grey, options);
+    const FrameMeasurement m = measureWithFloor(scene, factor);
     if (factor == 0) {
       EXPECT_EQ(m.matched, 9);
       EXPECT_GT(std::abs(scene.state.q()(2)), 1e-4);
@@ -102,9 +108,7 @@ TEST(FrameMeasurement, ConsistentMatchesAreAllKept) {
   for (double factor : {0.0, 0.1}) {
     SCOPED_TRACE(factor);
     Scene scene(0.0);
-    ActiveSearchOptions options;
-    options.min_variance_factor = factor;
-    const FrameMeasurement m = measureFeatures(scene.state, scene.features, scene.camera, scene.grey, options);
+    const FrameMeasurement m = measureWithFloor(scene, factor);
     EXPECT_EQ(m.matched, 9);
     EXPECT_LT(scene.state.r().norm(), 1e-4);
   }
