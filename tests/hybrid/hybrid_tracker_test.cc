@@ -230,25 +230,57 @@ TEST(HybridTracker, AnotherWallThenTheBoardAgain) {
 // frames facing the other wall are posed instead of lost. The target there is max(5 mm,
 // 1 % of the path since the board was last seen); measured 1.55 times that at this length (1.3-1.6
 // on the full presets, README), so this holds twice the target, and the return as above.
-TEST(HybridTracker, AnotherWallWithTrackedPointsIsPosedThroughout) {
-  TempDir dir;
-  HybridOptions options;
-  options.tracked_motion.enabled = true;
-  const TrackedRun run = runOn(render(dir, "wall_turn", 240), -1, true, options);
+// configs/hybrid_tracked.yaml (tracks at 0.05 px, the motion noise adapted) with its angular floor
+// at 1 rad/s^2 against 0.5: the worst away 1.65 against 2.70 times the target, the return's worst
+// 3.7 against 5.6 mm (at 0.5 the prediction lags the turn's start as the board leaves).
+double worstAwayOverTarget(const TrackedRun& run) {
+  double worst = 0;
   int away = 0;
   for (size_t i = 0; i < run.frames.size(); ++i) {
     const FrameScore& f = run.frames[i];
-    ASSERT_TRUE(f.error) << "frame " << i << ": " << f.reason;
-    if (f.corners_in_view > 0) continue;
+    EXPECT_TRUE(f.error) << "frame " << i << ": " << f.reason;
+    if (f.corners_in_view > 0 || !f.error) continue;
     ++away;
-    EXPECT_LE(*f.error, 2 * std::max(0.005, 0.01 * f.path_since_board)) << "frame " << i;
+    worst = std::max(worst, *f.error / std::max(0.005, 0.01 * f.path_since_board));
   }
   EXPECT_GT(away, 90);
+  return worst;
+}
+
+double worstAfterReturn(const TrackedRun& run) {
   size_t back = 0;
   for (size_t i = 100; i < run.frames.size() && back == 0; ++i)
     if (run.frames[i].corners_in_view == run.corners) back = i;
-  ASSERT_GT(back, 0u);
-  for (size_t i = back + 5; i < run.frames.size(); ++i) EXPECT_LT(*run.frames[i].error, 0.003) << "frame " << i;
+  EXPECT_GT(back, 0u);
+  double worst = 0;
+  for (size_t i = back + 5; back > 0 && i < run.frames.size(); ++i)
+    worst = std::max(worst, run.frames[i].error.value_or(INFINITY));
+  return worst;
+}
+
+TEST(HybridTracker, AnotherWallWithTrackedPointsIsPosedThroughout) {
+  TempDir dir;
+  const std::string path = render(dir, "wall_turn", 240);
+  HybridOptions options;
+  options.tracked_motion.enabled = true;
+  const TrackedRun run = runOn(path, -1, true, options);
+  EXPECT_LE(worstAwayOverTarget(run), 2.0);
+  EXPECT_LT(worstAfterReturn(run), 0.003);
+
+  const std::string config = std::string(SLAMCMP_SOURCE_DIR) + "/configs/hybrid_tracked.yaml";
+  HybridOptions file;
+  const cv::FileStorage fs(config, cv::FileStorage::READ);
+  ASSERT_TRUE(fs.isOpened()) << config;
+  loadOptions(fs["hybrid"], config, file);
+  ASSERT_EQ(file.filter.motion.adaptive.min_sigma_alpha, 1.0);
+  HybridOptions half_floor = file;
+  half_floor.filter.motion.adaptive.min_sigma_alpha = 0.5;
+  const TrackedRun with_file = runOn(path, -1, true, file);
+  const TrackedRun with_half_floor = runOn(path, -1, true, half_floor);
+  const double file_away = worstAwayOverTarget(with_file);
+  EXPECT_LE(file_away, 2.0);
+  EXPECT_LT(file_away, 0.75 * worstAwayOverTarget(with_half_floor));
+  EXPECT_LT(worstAfterReturn(with_file), 0.75 * worstAfterReturn(with_half_floor));
 }
 
 // roll_distortion, 100 frames: up to 110 degrees of roll through a strong lens, the board always in
