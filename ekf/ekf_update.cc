@@ -133,17 +133,18 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
   }
   // P -= K_i S_i K_i^T = W S^-1 W^T, as in batchUpdate.
   Eigen::MatrixXd& P = state.P();
+  // The QR below needs at least kPose rows (2m > 7); fewer corners never reach an update.
   const bool camera_only = 2 * m > kPose && std::all_of(observations->begin(), observations->end(),
                                                          [](const PointObservation& o) { return featureDim(o) == 0; });
   if (camera_only) {
     // Known points (the board's corners): W = P_c H^T with P_c = P's (r, q) columns, so
     // W S^-1 W^T = P_c H^T S^-1 H P_c^T; with L^-1 H = Q R (R 7x7), that is (P_c R^T)(P_c R^T)^T, a
     // rank-7 update where W's is rank 2m (the rows compressed by QR, as Mourikis and Roumeliotis
-    // 2007 compress an MSCKF update).
-    Eigen::MatrixXd H(2 * m, kPose);
-    for (int k = 0; k < m; ++k) H.middleRows<2>(2 * k) = poseJacobian((*observations)[k].h);
-    llt.matrixL().solveInPlace(H);
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(H);
+    // 2007 compress an MSCKF update). H is the last iteration's, the one S = L L^T was formed with.
+    Eigen::MatrixXd H_white(2 * m, kPose);
+    for (int k = 0; k < m; ++k) H_white.middleRows<2>(2 * k) = poseJacobian((*observations)[k].h);
+    llt.matrixL().solveInPlace(H_white);  // L^-1 H
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(H_white);
     const Eigen::Matrix<double, kPose, kPose> R = qr.matrixQR().topRows<kPose>().triangularView<Eigen::Upper>();
     W = P.leftCols<kPose>() * R.transpose();
   } else {

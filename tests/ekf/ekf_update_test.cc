@@ -183,7 +183,8 @@ TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
   std::vector<PointObservation> observations = b.observations();
   ASSERT_TRUE(iteratedUpdate(iterated, &observations, 0.05, relinearise, 1));
   EXPECT_LT((batch.x() - iterated.x()).norm(), 1e-12);
-  EXPECT_LT((batch.P() - iterated.P()).norm(), 1e-12 * b.prior.P().norm());
+  // Against the size of the update itself (P's untouched velocity entries would dilute it).
+  EXPECT_LT((batch.P() - iterated.P()).norm(), 1e-10 * (b.prior.P() - batch.P()).norm());
   EXPECT_GT((iterated.P().bottomRightCorner<12, 12>() - b.prior.P().bottomRightCorner<12, 12>()).norm(), 1e-3)
       << "the map's block moves with the camera";
 }
