@@ -4,10 +4,12 @@
 #include "hybrid/hybrid_tracker.h"
 
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <optional>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/camera.h"
 #include "core/options.h"
@@ -286,6 +288,38 @@ TEST(HybridTracker, AnotherWallWithTrackedPointsIsPosedThroughout) {
   EXPECT_LE(file_away, 2.0);
   EXPECT_LT(file_away, 0.75 * worstAwayOverTarget(with_half_floor));
   EXPECT_LT(worstAfterReturn(with_file), 0.001);
+}
+
+// Issue 14's in-view target (hybrid within 1.2 times cslam's ATE) for configs/hybrid_tracked.yaml
+// (tracks and the gradient corners at 0.05 px), both back-ends run as a user runs them on tv1 and
+// tv2 at 120 frames: measured 0.10 / 0.20 mm against cslam's 0.35 / 0.37 (hybrid's defaults
+// 0.6-0.7 on the full presets); held at 0.8 times cslam's.
+TEST(HybridTracker, TrackedConfigBeatsCslamWithTheBoardInView) {
+  for (const char* preset : {"tv1", "tv2"}) {
+    SCOPED_TRACE(preset);
+    TempDir dir;
+    SynthOptions synth;
+    synth.preset = preset;
+    synth.frames = 120;
+    synth.supersample = 2;
+    const std::string sequence = dir.file("sequence");
+    writeSyntheticSequence(synth, sequence);
+    const auto ate = [&](const std::string& backend, const std::string& more) -> double {
+      const std::string out = dir.file(backend);
+      const test::CommandResult r =
+          test::runSlamcmp("run --backend " + backend + " --sequence '" + sequence + "' --out '" + out + "'" + more);
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      if (r.exit_code != 0) return NAN;
+      std::ifstream in(out + "/summary.json");
+      const nlohmann::json summary = nlohmann::json::parse(in);
+      EXPECT_EQ(summary["tracked"], 120) << backend;
+      return summary["ate"]["trans"]["rmse"].get<double>();
+    };
+    const double cslam = ate("cslam", "");
+    const double hybrid =
+        ate("hybrid", " --config '" + std::string(SLAMCMP_SOURCE_DIR) + "/configs/hybrid_tracked.yaml'");
+    EXPECT_LT(hybrid, 0.8 * cslam) << "hybrid " << hybrid << " m, cslam " << cslam << " m";
+  }
 }
 
 // roll_distortion, 100 frames: up to 110 degrees of roll through a strong lens, the board always in
