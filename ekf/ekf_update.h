@@ -49,9 +49,8 @@ using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<Poi
 // until the camera moves by less than `tolerance` (metres, quaternion units) or after
 // `max_iterations`; P from the last K_i and H_i (for known points alone, whose H touches only
 // (r, q), as a rank-7 update of P where batchUpdate's is rank 2m: the same P up to rounding). One
-// iteration is batchUpdate. It matters where the
-// prior is far from the measurements compared with their noise (a board found again after a drift:
-// one linearisation there lands centimetres off). `observations` leave with h at the updated state
+// iteration is batchUpdate. It matters where the prior is far from the measurements compared with
+// their noise (a board found again after a drift: one linearisation there lands centimetres off). `observations` leave with h at the updated state
 // (where it can be predicted), so z - h are the update's residuals. max_iterations below 1 is 1. Returns false, leaving the state untouched, when S is not
 // positive definite or an observation cannot be predicted at an iterate.
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,

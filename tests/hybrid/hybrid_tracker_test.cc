@@ -44,7 +44,23 @@ struct TrackedRun {
       }
     return n ? std::sqrt(sum / n) : NAN;
   }
+  // The first frame from `first` on with the whole board in view; 0 if none.
+  size_t wholeBoardFrom(size_t first) const {
+    for (size_t i = first; i < frames.size(); ++i)
+      if (frames[i].corners_in_view == corners) return i;
+    return 0;
+  }
 };
+
+// One of the project's option files (configs/...), as `slamcmp run --config` reads it.
+HybridOptions loadConfig(const std::string& relative) {
+  const std::string path = std::string(SLAMCMP_SOURCE_DIR) + "/" + relative;
+  const cv::FileStorage fs(path, cv::FileStorage::READ);
+  EXPECT_TRUE(fs.isOpened()) << path;
+  HybridOptions options;
+  if (fs.isOpened()) loadOptions(fs["hybrid"], path, options);
+  return options;
+}
 
 std::string render(const TempDir& dir, const std::string& preset, int frames) {
   SynthOptions options;
@@ -178,10 +194,7 @@ TEST(HybridTracker, PartialBoardIsAsGoodAsTheWholeBoard) {
     SCOPED_TRACE(v.name);
     HybridOptions options;
     if (v.config) {
-      const std::string config = std::string(SLAMCMP_SOURCE_DIR) + "/" + v.config;
-      const cv::FileStorage fs(config, cv::FileStorage::READ);
-      ASSERT_TRUE(fs.isOpened()) << config;
-      loadOptions(fs["hybrid"], config, options);
+      options = loadConfig(v.config);
       ASSERT_TRUE(options.filter.motion.adaptive.enabled);
     }
     options.tracked_motion.enabled = v.tracks;
@@ -220,9 +233,7 @@ TEST(HybridTracker, AnotherWallThenTheBoardAgain) {
       if (run.frames[i].error) {
         EXPECT_LT(*run.frames[i].error, 0.05) << "frame " << i;
       }
-    size_t back = 0;
-    for (size_t i = 100; i < run.frames.size() && back == 0; ++i)
-      if (run.frames[i].corners_in_view == run.corners) back = i;
+    const size_t back = run.wholeBoardFrom(100);
     ASSERT_GT(back, 0u);
     for (size_t i = back + 5; i < run.frames.size(); ++i) {
       ASSERT_TRUE(run.frames[i].error) << "frame " << i << ": " << run.frames[i].reason;
@@ -255,9 +266,7 @@ double worstAwayOverTarget(const TrackedRun& run) {
 }
 
 double worstAfterReturn(const TrackedRun& run) {
-  size_t back = 0;
-  for (size_t i = 100; i < run.frames.size() && back == 0; ++i)
-    if (run.frames[i].corners_in_view == run.corners) back = i;
+  const size_t back = run.wholeBoardFrom(100);
   EXPECT_GT(back, 0u);
   double worst = 0;
   for (size_t i = back + 5; back > 0 && i < run.frames.size(); ++i)
@@ -274,11 +283,7 @@ TEST(HybridTracker, AnotherWallWithTrackedPointsIsPosedThroughout) {
   EXPECT_LE(worstAwayOverTarget(run), 2.0);
   EXPECT_LT(worstAfterReturn(run), 0.003);
 
-  const std::string config = std::string(SLAMCMP_SOURCE_DIR) + "/configs/hybrid_tracked.yaml";
-  HybridOptions file;
-  const cv::FileStorage fs(config, cv::FileStorage::READ);
-  ASSERT_TRUE(fs.isOpened()) << config;
-  loadOptions(fs["hybrid"], config, file);
+  const HybridOptions file = loadConfig("configs/hybrid_tracked.yaml");
   ASSERT_EQ(file.filter.motion.adaptive.min_sigma_alpha, 1.0);
   HybridOptions half_floor = file;
   half_floor.filter.motion.adaptive.min_sigma_alpha = 0.5;
