@@ -52,6 +52,7 @@ BoardCornerMeasurer::BoardCornerMeasurer(const CameraModel& camera, const Chessb
       target_(target),
       corners_world_(target.cornersWorld()),
       options_(options),
+      noise_(options.noise, options.pixel_sigma),
       detector_(target, options.detector, options.presence) {}
 
 void BoardCornerMeasurer::reset() {
@@ -78,7 +79,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     p.in_image = uv.x() >= border && uv.y() >= border && uv.x() <= grey.cols - 1 - border &&
                  uv.y() <= grey.rows - 1 - border;
     if (!p.in_image) continue;
-    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, options_.pixel_sigma);
+    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, noise_.pixelSigma());
     p.half_axis_px = 3.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat2>(p.S).eigenvalues()(1)));
   }
   return pred;
@@ -252,7 +253,7 @@ bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) con
         return false;
     return true;
   };
-  return iteratedUpdate(state, &m->observations, options_.pixel_sigma, predict_at);
+  return iteratedUpdate(state, &m->observations, noise_.pixelSigma(), predict_at);
 }
 
 void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {
@@ -320,6 +321,7 @@ BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPredict
   }
   reset();
   if (static_cast<int>(kept.size()) >= options_.min_corners) {
+    if (options_.noise.enabled) noise_.add(planeErrorsPx(kept, z));
     for (size_t k = 0; k < kept.size(); ++k) use(kept[k], z[k], pred[kept[k]].h, &out);
   }
   return out;

@@ -15,6 +15,7 @@
 #include "ekf/ekf_state.h"
 #include "ekf/ekf_update.h"
 #include "ekf/measurement_model.h"
+#include "hybrid/corner_noise.h"
 #include "tracking/board_presence.h"
 
 namespace slamcmp {
@@ -32,6 +33,7 @@ struct BoardCornerMeasurementOptions {
   double reanchor_position_sigma = 0.02;     // m, added to the camera's when a found board disagrees with the filter
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
   int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
+  CornerNoiseOptions noise;          // pixel_sigma estimated from the corners' scatter about the board plane
   ChessboardDetectorOptions detector;
   BoardPresenceOptions presence;     // the quick test before each board search, once the board has been seen
   template <class V>
@@ -54,6 +56,7 @@ struct BoardCornerMeasurementOptions {
     v("reanchor_orientation_sigma", reanchor_orientation_sigma,
       "per quaternion component, added likewise");
     v("border_px", border_px, "corners predicted closer than this to the image border are not measured, pixels");
+    v("noise", noise, "the corners' noise estimated from their scatter about the board plane");
     v("detector", detector, "the board search where the filter predicts the board");
     v("presence", presence, "the quick test (X-junctions) before each search for the whole board");
   }
@@ -128,6 +131,7 @@ class BoardCornerMeasurer {
   std::vector<cv::Mat> pyramid_prev_;
   std::vector<int> tracked_ids_;
   std::vector<cv::Point2f> tracked_uv_;
+  CornerNoise noise_;
   PresenceGatedDetector detector_;  // the board searches; learns from every view of the whole board
 };
 
