@@ -5,20 +5,39 @@
 //
 // Frames come from a rendered preset (SLAMCMP_BENCH_PRESET, default tv1; SLAMCMP_BENCH_FRAMES,
 // default 120) in a temporary folder, decoded once into memory. One iteration tracks one frame; at
-// the end of the sequence the tracker starts again (untimed).
+// the end of the sequence the tracker starts again (untimed). SLAMCMP_BENCH_CONFIG names an option
+// file (as `slamcmp run --config`): the back-ends with a section in it run with those options.
+//
+//   SLAMCMP_BENCH_CONFIG=configs/hybrid_tracked.yaml build/benchmarks/bench_tracking --benchmark_filter=hybrid
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include <opencv2/core/persistence.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include "benchmarks/bench_frames.h"
+#include "core/error.h"
 #include "eval/app/backends.h"
 
 namespace slamcmp {
 namespace {
+
+// The back-end's defaults, or its section of SLAMCMP_BENCH_CONFIG's file.
+std::unique_ptr<BackendOptions> benchOptions(const BackendRegistration& backend) {
+  std::unique_ptr<BackendOptions> options = backend.default_options();
+  const char* path = std::getenv("SLAMCMP_BENCH_CONFIG");
+  if (!path) return options;
+  const cv::FileStorage fs(path, cv::FileStorage::READ);
+  if (!fs.isOpened()) throw InputError(path, "SLAMCMP_BENCH_CONFIG: cannot read the option file");
+  const std::string where = std::string(path) + ": " + backend.name;
+  if (!fs[backend.name].empty()) options->read(fs[backend.name], where);
+  options->check(where);
+  return options;
+}
 
 void BM_Track(benchmark::State& state, const BackendRegistration* backend, const BackendMode* mode) {
   cv::setNumThreads(1);  // one core, as Table 3.2 is quoted
@@ -28,7 +47,13 @@ void BM_Track(benchmark::State& state, const BackendRegistration* backend, const
   context.target = b.seq.target;
   context.mode = mode->name;
   context.image_size = b.seq.image_size;
-  const std::unique_ptr<BackendOptions> options = backend->default_options();
+  std::unique_ptr<BackendOptions> options;
+  try {
+    options = benchOptions(*backend);
+  } catch (const InputError& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
   std::unique_ptr<Tracker> tracker = backend->make(context, *options);
   size_t i = 0;
   for (auto _ : state) {
