@@ -16,7 +16,6 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/core/persistence.hpp>
 #include <opencv2/core/utility.hpp>
 
 #include "benchmarks/bench_frames.h"
@@ -25,19 +24,6 @@
 
 namespace slamcmp {
 namespace {
-
-// The back-end's defaults, or its section of SLAMCMP_BENCH_CONFIG's file.
-std::unique_ptr<BackendOptions> benchOptions(const BackendRegistration& backend) {
-  std::unique_ptr<BackendOptions> options = backend.default_options();
-  const char* path = std::getenv("SLAMCMP_BENCH_CONFIG");
-  if (!path) return options;
-  const cv::FileStorage fs(path, cv::FileStorage::READ);
-  if (!fs.isOpened()) throw InputError(path, "SLAMCMP_BENCH_CONFIG: cannot read the option file");
-  const std::string where = std::string(path) + ": " + backend.name;
-  if (!fs[backend.name].empty()) options->read(fs[backend.name], where);
-  options->check(where);
-  return options;
-}
 
 void BM_Track(benchmark::State& state, const BackendRegistration* backend, const BackendMode* mode) {
   cv::setNumThreads(1);  // one core, as Table 3.2 is quoted
@@ -48,8 +34,9 @@ void BM_Track(benchmark::State& state, const BackendRegistration* backend, const
   context.mode = mode->name;
   context.image_size = b.seq.image_size;
   std::unique_ptr<BackendOptions> options;
-  try {
-    options = benchOptions(*backend);
+  try {  // the back-end's defaults, or as `slamcmp run --config` reads SLAMCMP_BENCH_CONFIG's file
+    const char* config = std::getenv("SLAMCMP_BENCH_CONFIG");
+    options = loadBackendOptions(*backend, config ? config : "", {}, std::nullopt, b.seq.image_size);
   } catch (const InputError& e) {
     state.SkipWithError(e.what());
     return;

@@ -39,7 +39,7 @@ class GradientWindow {
   // The region holding every corner's square (and two pixels more, for the moves of its centre),
   // smoothed at once when it is smaller than the squares one by one.
   void smoothAround(const std::vector<cv::Point2f>& uv, int reach) {
-    constexpr int kMoves = 2;
+    constexpr int kMoves = 2;  // a corner's start is a track or a prediction, within a pixel or two
     const int extent = reach + 1 + kMoves;
     const cv::Rect image(0, 0, grey_.cols, grey_.rows);
     cv::Rect region;
@@ -177,14 +177,17 @@ void refineCornersSubpixel(const cv::Mat& grey, int half_window, std::vector<cv:
                                       options.epsilon_px));
   };
   if (options.method == "opencv") return opencv(uv);
+  // The smoothing reads the image around its windows in place: a region of a larger image (the
+  // board searched for where it may be) is copied, so that its border is the border.
+  const cv::Mat image = grey.isSubmatrix() ? grey.clone() : grey;
   // A blur wide against the window leaves no junction to place (half window 3, before the radius
   // grew: 0.36 px RMS at 1.5 px against 0.021 at 0.75): at most half the window beyond 1.5 px.
-  GradientWindow window(grey, std::clamp(0.5 * (half_window - 1.5), 0.0, options.smoothing_sigma_px));
+  GradientWindow window(image, std::clamp(0.5 * (half_window - 1.5), 0.0, options.smoothing_sigma_px));
   window.smoothAround(uv, reachOf(maxRadius(half_window)));
   std::vector<cv::Point2f> unplaced;
   std::vector<size_t> where;
   for (size_t k = 0; k < uv.size(); ++k)
-    if (!refineCorner(grey, half_window, options, window, &uv[k])) {
+    if (!refineCorner(image, half_window, options, window, &uv[k])) {
       unplaced.push_back(uv[k]);
       where.push_back(k);
     }

@@ -13,14 +13,15 @@ namespace slamcmp {
 struct CornerNoiseOptions {
   bool enabled = false;          // off: the corners keep their set pixel_sigma
   double min_pixel_sigma = 0.01;  // pixels: the estimate's floor (the homography absorbs some errors)
-  double time_constant_frames = 30;  // older frames' residuals weigh exp(-age / this)
+  double time_constant_frames = 30;  // a view's residuals weigh exp(-age / this), age in views of the board since
   int min_dof = 40;              // the set pixel_sigma until this many degrees of freedom are pooled
   template <class V>
   void visit(V& v) {
     v("enabled", enabled,
       "estimate the corners' noise from their scatter about the board plane's homography (else pixel_sigma)");
     v("min_pixel_sigma", min_pixel_sigma, "pixels, the estimate's floor");
-    v("time_constant_frames", time_constant_frames, "frames: older residuals weigh exp(-age / this)");
+    v("time_constant_frames", time_constant_frames,
+      "a view's residuals weigh exp(-age / this), its age counted in views of the board since");
     v("min_dof", min_dof, "degrees of freedom pooled before the estimate replaces pixel_sigma");
   }
   void check() const;

@@ -132,6 +132,48 @@ TEST(SubpixelCorner, WhatTheGradientsCannotPlaceGoesToOpenCv) {
   EXPECT_NE(gradient[2], resampled[2]);
 }
 
+// The image is smoothed once over a board's region, or window by window where the corners are
+// few and far apart (subpixel_corner.cc): the same arithmetic either way, wherever it starts.
+TEST(SubpixelCorner, TheSameAloneAsAmongTheBoardsCorners) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> offset(-0.5, 0.5);
+  cv::Mat board(3 * kSize, 3 * kSize, CV_8U);
+  std::vector<cv::Point2f> starts;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const cv::Point2d corner(20 + offset(rng), 20 + offset(rng));
+      junction(corner, 0.3 * i, 0.3 * i + 1.5).copyTo(board(cv::Rect(i * kSize, j * kSize, kSize, kSize)));
+      starts.emplace_back(static_cast<float>(i * kSize + 20.4), static_cast<float>(j * kSize + 19.7));
+    }
+  const SubpixelCornerOptions options = withMethod("gradient");
+  std::vector<cv::Point2f> together = starts;
+  refineCornersSubpixel(board, 8, together, options);
+  for (const auto& [a, b] : {std::pair{0, 8}, {2, 6}}) {  // opposite corners: window by window
+    std::vector<cv::Point2f> apart = {starts[a], starts[b]};
+    refineCornersSubpixel(board, 8, apart, options);
+    EXPECT_NEAR(apart[0].x, together[a].x, 1e-6);
+    EXPECT_NEAR(apart[0].y, together[a].y, 1e-6);
+    EXPECT_NEAR(apart[1].x, together[b].x, 1e-6);
+    EXPECT_NEAR(apart[1].y, together[b].y, 1e-6);
+  }
+}
+
+// A region of a larger image (the board looked for where it may be) ends at its own border: a
+// corner 8 px from it is refined as in a copy of the region, whatever lies beyond.
+TEST(SubpixelCorner, ARegionEndsAtItsOwnBorder) {
+  const cv::Mat alone = junction(cv::Point2d(8.3, 20.4), 0.4, 1.9);
+  cv::Mat padded;
+  cv::copyMakeBorder(alone, padded, 20, 20, 20, 20, cv::BORDER_CONSTANT, cv::Scalar(128));
+  const cv::Mat region = padded(cv::Rect(20, 20, kSize, kSize));
+  ASSERT_TRUE(region.isSubmatrix());
+  std::vector<cv::Point2f> in_region = {cv::Point2f(8.8f, 20.0f)}, in_copy = in_region;
+  refineCornersSubpixel(region, 5, in_region, withMethod("gradient"));
+  refineCornersSubpixel(alone, 5, in_copy, withMethod("gradient"));
+  EXPECT_EQ(in_region[0], in_copy[0]);
+  EXPECT_NEAR(in_copy[0].x, 8.3, 0.05);
+  EXPECT_NEAR(in_copy[0].y, 20.4, 0.05);
+}
+
 TEST(SubpixelCorner, OptionsAreChecked) {
   SubpixelCornerOptions o;
   o.method = "bilinear";
