@@ -246,11 +246,12 @@ TEST(HybridTracker, AnotherWallThenTheBoardAgain) {
 // frames facing the other wall are posed instead of lost. The issue's target there is max(5 mm,
 // 1 % of the path since the board was last seen); measured 1.55 times that at this length (1.3-1.6
 // on the full presets, README), so this holds twice the target, and the return as above.
-// configs/hybrid_tracked.yaml (tracks and corners at 0.05 px, the tracks also without the board,
-// the motion noise adapted) meets the target here: worst away 0.73 of it, held at 1. Its angular
-// floor at 1 rad/s^2 against 0.5: 0.73 against 1.51 (at 0.5 the prediction lags the turn's start
-// as the board leaves), held at 0.75 of it; from the fifth frame after the return within 1 mm.
-// Both pose every frame.
+// configs/hybrid_tracked.yaml (tracks and corners at 0.05 px, the corners' noise estimated, four
+// poses in the window, the tracks also without the board, the motion noise adapted) meets the
+// target here: worst away 0.80 of it, held at 1. Its angular floor at 1 rad/s^2 against 0.5: 0.80
+// against 1.01 (at 0.5 the prediction lags the turn's start as the board leaves; 0.73 against 1.51
+// with two poses and the corners at 0.05 px), held at 0.9 of it; from the fifth frame after the
+// return within 1 mm. Both pose every frame.
 double worstAwayOverTarget(const TrackedRun& run) {
   double worst = 0;
   int away = 0;
@@ -291,13 +292,13 @@ TEST(HybridTracker, AnotherWallWithTrackedPointsIsPosedThroughout) {
   const TrackedRun with_half_floor = runOn(path, -1, true, half_floor);
   const double file_away = worstAwayOverTarget(with_file);
   EXPECT_LE(file_away, 1.0);
-  EXPECT_LT(file_away, 0.75 * worstAwayOverTarget(with_half_floor));
+  EXPECT_LT(file_away, 0.9 * worstAwayOverTarget(with_half_floor));
   EXPECT_LT(worstAfterReturn(with_file), 0.001);
 }
 
 // Issue 14's in-view target (hybrid within 1.2 times cslam's ATE) for configs/hybrid_tracked.yaml
 // (tracks at 0.05 px, the gradient corners with their noise estimated), both back-ends run as a
-// user runs them on tv1 and tv2 at 120 frames: measured 0.12 / 0.18 mm against cslam's 0.35 /
+// user runs them on tv1 and tv2 at 120 frames: measured 0.13 / 0.18 mm against cslam's 0.35 /
 // 0.37 (hybrid's defaults 0.6-0.7 on the full presets); held at 0.8 times cslam's. Its NEES too.
 TEST(HybridTracker, TrackedConfigBeatsCslamWithTheBoardInView) {
   for (const char* preset : {"tv1", "tv2"}) {
