@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 #include <opencv2/imgproc.hpp>
@@ -121,59 +122,57 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
   const double square_px = squares[squares.size() / 2];
   const int half = refineHalfWindow(square_px);
 
-  const bool was_tracked = !tracked_ids_.empty();
-  std::vector<int> ids;
-  std::vector<cv::Point2f> uv;
-  // Tracked from the previous frame twice: started where the filter predicts each corner (its
-  // constant-velocity motion: a fast turn moves the board by most of a square a frame) and where
-  // the corner was. Lucas-Kanade started more than half a square off settles on the neighbouring
-  // corner, every corner alike, which neither the gate nor the board's plane can tell; the two
-  // starts agree only on the right one.
-  if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
-    std::vector<cv::Point2f> from_prediction, from_previous;
-    for (int id : tracked_ids_)
-      from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
-                                   static_cast<float>(pred[id].h.uv_distorted.y()));
-    std::vector<unsigned char> ok_prediction, ok_previous;
-    std::vector<float> err;
-    const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok_prediction, err, lk_window,
-                             options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_previous, ok_previous, err, lk_window,
-                             options_.lk_levels, lk_stop);
-    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-      const int id = tracked_ids_[k];
-      if (!ok_prediction[k] || !ok_previous[k] || !pred[id].in_image) continue;
-      if (cv::norm(from_prediction[k] - from_previous[k]) > options_.max_track_disagreement_px) continue;
-      ids.push_back(id);
-      uv.push_back(from_prediction[k]);
+  // The board back in view with no corner tracked from the last frame: found by the detector where
+  // the filter predicts it, which orders the corners by the board itself. Refined at a prediction a
+  // square off, every corner settles on its neighbour, a whole grid the plane test and the gates of
+  // a filter unsure after the gap take for the board (vamr, frame 221: 40 mm off for 500 frames).
+  const bool search_first = tracked_ids_.empty() && all_in_image;
+  std::optional<BoardCornerMeasurement> found;
+  if (search_first) found = searchPredicted(pred, grey, square_px);
+  BoardCornerMeasurement out;
+  if (found) {
+    out = std::move(*found);
+  } else {
+    std::vector<int> ids;
+    std::vector<cv::Point2f> uv;
+    // Tracked from the previous frame twice: started where the filter predicts each corner (its
+    // constant-velocity motion: a fast turn moves the board by most of a square a frame) and where
+    // the corner was. Lucas-Kanade started more than half a square off settles on the neighbouring
+    // corner, every corner alike, which neither the gate nor the board's plane can tell; the two
+    // starts agree only on the right one.
+    if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
+      std::vector<cv::Point2f> from_prediction, from_previous;
+      for (int id : tracked_ids_)
+        from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
+                                     static_cast<float>(pred[id].h.uv_distorted.y()));
+      std::vector<unsigned char> ok_prediction, ok_previous;
+      std::vector<float> err;
+      const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
+      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok_prediction, err, lk_window,
+                               options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_previous, ok_previous, err, lk_window,
+                               options_.lk_levels, lk_stop);
+      for (size_t k = 0; k < tracked_ids_.size(); ++k) {
+        const int id = tracked_ids_[k];
+        if (!ok_prediction[k] || !ok_previous[k] || !pred[id].in_image) continue;
+        if (cv::norm(from_prediction[k] - from_previous[k]) > options_.max_track_disagreement_px) continue;
+        ids.push_back(id);
+        uv.push_back(from_prediction[k]);
+      }
     }
-  }
-  // Refined where the filter predicts them, when its uncertainty is well under a square.
-  for (int i = 0; i < n; ++i) {
-    if (!pred[i].in_image || std::find(ids.begin(), ids.end(), i) != ids.end()) continue;
-    if (pred[i].half_axis_px > options_.max_predicted_search * pred[i].square_px) continue;
-    ids.push_back(i);
-    uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
-  }
-  refineCornersSubpixel(grey, half, uv, options_.detector.subpixel);
-  BoardCornerMeasurement out = keep(pred, ids, uv);
-  // The board back in view, or its corners lost by the tracking: a board search where the filter
-  // predicts it. Also whenever none was tracked from the last frame: corners refined at a
-  // prediction a square off all settle on their neighbours, a whole grid the plane test and the
-  // gates of a filter unsure after the gap take for the board (vamr, frame 221: 40 mm off for 500
-  // frames); the detector orders the corners by the board itself.
-  if ((static_cast<int>(out.observations.size()) * 2 < predicted || !was_tracked) && all_in_image) {
-    out.searched = true;
-    out.detected = searchPredictedRegion(pred, grey, square_px);
-    if (!out.detected.empty()) {
-      ids.resize(n);
-      for (int i = 0; i < n; ++i) ids[i] = i;
-      out = keep(pred, ids, out.detected);
-      out.searched = true;
+    // Refined where the filter predicts them, when its uncertainty is well under a square.
+    for (int i = 0; i < n; ++i) {
+      if (!pred[i].in_image || std::find(ids.begin(), ids.end(), i) != ids.end()) continue;
+      if (pred[i].half_axis_px > options_.max_predicted_search * pred[i].square_px) continue;
+      ids.push_back(i);
+      uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
     }
+    refineCornersSubpixel(grey, half, uv, options_.detector.subpixel);
+    out = keep(pred, ids, uv);
+    // Most of the corners lost by the tracking: a board search where the filter predicts it.
+    if (!search_first && static_cast<int>(out.observations.size()) * 2 < predicted && all_in_image)
+      if (auto board = searchPredicted(pred, grey, square_px)) out = std::move(*board);
   }
-  out.predicted = predicted;
   pyramid_prev_ = std::move(pyramid);
   if (static_cast<int>(tracked_ids_.size()) == n) {  // the whole board: what the presence test learns from
     std::vector<cv::Point2f> whole(n);
@@ -211,6 +210,15 @@ std::vector<cv::Point2f> BoardCornerMeasurer::searchPredictedRegion(const std::v
   if (roi.area() == 0 || !detector_.detect(grey, roi, &found)) return {};
   chooseSymmetricOrder(target_, found, predicted_uv);  // a symmetric board: the predicted origin
   return found;
+}
+
+std::optional<BoardCornerMeasurement> BoardCornerMeasurer::searchPredicted(const std::vector<CornerPrediction>& pred,
+                                                                          const cv::Mat& grey, double square_px) {
+  const std::vector<cv::Point2f> found = searchPredictedRegion(pred, grey, square_px);
+  if (found.empty()) return std::nullopt;
+  std::vector<int> ids(pred.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  return keep(pred, ids, found);
 }
 
 BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, const cv::Mat& grey) {
@@ -310,9 +318,11 @@ BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPredict
     z.push_back(measured);
   }
   // The set on the board plane: a homography through the kept corners; the ones off it are dropped
-  // (twice: the first fit may be pulled by the worst).
-  for (int pass = 0; pass < 2 && static_cast<int>(kept.size()) >= options_.min_corners; ++pass) {
-    const std::vector<double> errors = planeErrorsPx(kept, z);
+  // (twice: the first fit may be pulled by the worst; a fit that drops none is the last).
+  std::vector<double> errors;
+  bool fits_kept = false;  // `errors` are those of a fit through exactly the kept corners
+  for (int pass = 0; pass < 2 && !fits_kept && static_cast<int>(kept.size()) >= options_.min_corners; ++pass) {
+    errors = planeErrorsPx(kept, z);
     std::vector<int> kept_next;
     std::vector<Vec2> z_next;
     for (size_t k = 0; k < kept.size(); ++k)
@@ -320,12 +330,13 @@ BoardCornerMeasurement BoardCornerMeasurer::keep(const std::vector<CornerPredict
         kept_next.push_back(kept[k]);
         z_next.push_back(z[k]);
       }
+    fits_kept = kept_next.size() == kept.size();
     kept.swap(kept_next);
     z.swap(z_next);
   }
   reset();
   if (static_cast<int>(kept.size()) >= options_.min_corners) {
-    if (options_.noise.enabled) noise_.add(planeErrorsPx(kept, z));
+    if (options_.noise.enabled) noise_.add(fits_kept ? errors : planeErrorsPx(kept, z));
     for (size_t k = 0; k < kept.size(); ++k) use(kept[k], z[k], pred[kept[k]].h, &out);
   }
   return out;

@@ -5,6 +5,7 @@
 // found by a board search in the region where the filter predicts the board (the frame the board
 // comes back). Each measurement is gated by its own innovation covariance, and the set by a
 // homography of the board plane, so a corner one square off never reaches the update.
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -67,9 +68,6 @@ struct BoardCornerMeasurementOptions {
 struct BoardCornerMeasurement {
   std::vector<PointObservation> observations;  // offset kKnownPoint; z and h per kept corner
   std::vector<int> corner_ids;                 // the corner index (SPEC order) of each observation
-  int predicted = 0;                           // corners predicted inside the image
-  bool searched = false;                       // a board search ran in the predicted region
-  std::vector<cv::Point2f> detected;           // what it found (SPEC order), kept or not
 };
 
 class BoardCornerMeasurer {
@@ -114,6 +112,10 @@ class BoardCornerMeasurer {
   void use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out);
   // The measurement within the corner's innovation gate (chi-square, 2 dof, options_.gate).
   bool withinGate(const CornerPrediction& p, const Vec2& measured) const;
+  // The board detected in the region where the filter predicts it, its corners gated as keep()
+  // does; nothing when the detector found none.
+  std::optional<BoardCornerMeasurement> searchPredicted(const std::vector<CornerPrediction>& pred,
+                                                        const cv::Mat& grey, double square_px);
   // A board detection in the region where the filter predicts the board; empty if none.
   std::vector<cv::Point2f> searchPredictedRegion(const std::vector<CornerPrediction>& pred, const cv::Mat& grey,
                                                  double square_px);

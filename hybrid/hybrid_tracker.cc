@@ -142,8 +142,8 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   corners_->reset();
   // Not where the filter predicts it: the whole image every search_interval frames (a full search
   // of a textured frame without the board costs 100-350 ms; the presence test first, 5 ms).
-  std::vector<cv::Point2f> found = board.detected;
-  if (found.empty() && ++frames_since_search_ >= co.search_interval) {
+  std::vector<cv::Point2f> found;
+  if (++frames_since_search_ >= co.search_interval) {
     frames_since_search_ = 0;
     found = corners_->searchWholeImage(frame.grey);
     if (!found.empty() && target_.symmetric() && last_pose_) chooseSymmetricOrder(target_, found, projectBoardCorners(*camera_, target_, *last_pose_));

@@ -44,6 +44,11 @@ struct TrackedRun {
       }
     return n ? std::sqrt(sum / n) : NAN;
   }
+  int posed() const {
+    int n = 0;
+    for (const FrameScore& f : frames) n += f.error.has_value();
+    return n;
+  }
   // The first frame from `first` on with the whole board in view; 0 if none.
   size_t wholeBoardFrom(size_t first) const {
     for (size_t i = first; i < frames.size(); ++i)
@@ -127,14 +132,13 @@ TrackedRun runOn(const std::string& path, int max_frames = -1, bool with_camera 
 void expectBoardLeavesTargets(const TrackedRun& run) {
   const double in_view = run.rmsWhere([&](const FrameScore& f) { return f.corners_in_view == run.corners; });
   EXPECT_LT(in_view, 0.0015);
-  int posed = 0, away = 0;
+  int away = 0;
   for (const FrameScore& f : run.frames) {
-    posed += f.error.has_value();
     if (f.corners_in_view > 0 || !f.error) continue;
     ++away;
     EXPECT_LE(*f.error, std::max(0.005, 0.01 * f.path_since_board));
   }
-  EXPECT_EQ(posed, 200);
+  EXPECT_EQ(run.posed(), 200);
   EXPECT_GT(away, 40);
   // The frames after the return: the first with the whole board back, then five more.
   size_t back = 0;
@@ -340,9 +344,7 @@ TEST(HybridTracker, TrackedConfigBeatsCslamWithTheBoardInView) {
 TEST(HybridTracker, LargeRollThroughAStrongLens) {
   TempDir dir;
   const TrackedRun run = runOn(render(dir, "roll_distortion", 100));
-  int posed = 0;
-  for (const FrameScore& f : run.frames) posed += f.error.has_value();
-  EXPECT_EQ(posed, 100);
+  EXPECT_EQ(run.posed(), 100);
   EXPECT_LT(run.rmsWhere([](const FrameScore&) { return true; }), 0.001);
 }
 
@@ -352,10 +354,8 @@ TEST(HybridTracker, LargeRollThroughAStrongLens) {
 TEST(HybridTracker, SelfCalibratesWithoutACameraFile) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const TrackedRun run = runOn(shared + "/vamr_checkerboard", 200, false);
-  int posed = 0;
-  for (const FrameScore& f : run.frames) posed += f.error.has_value();
   EXPECT_FALSE(run.finish_refused);
-  EXPECT_GE(posed, 40);
+  EXPECT_GE(run.posed(), 40);
   EXPECT_LT(run.rmsWhere([](const FrameScore&) { return true; }), 0.005);
 }
 
@@ -390,9 +390,7 @@ TEST(HybridTracker, NeverStartedIsRefusedAtTheEnd) {
 TEST(HybridTracker, VamrMatchesBoardReference) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const TrackedRun run = runOn(shared + "/vamr_checkerboard", 150);
-  int posed = 0;
-  for (const FrameScore& f : run.frames) posed += f.error.has_value();
-  EXPECT_GE(posed, 147);
+  EXPECT_GE(run.posed(), 147);
   EXPECT_LT(run.rmsWhere([](const FrameScore&) { return true; }), 0.0015);
 }
 
@@ -407,13 +405,10 @@ TEST(HybridTracker, TrackedConfigTakesTheReturningRealBoardCornerForCorner) {
   HybridOptions options = loadConfig("configs/hybrid_tracked.yaml");
   options.tracked_motion.points.max = 10;
   const TrackedRun run = runOn(shared + "/vamr_checkerboard", 300, true, options);
-  int posed = 0;
   double worst_after = 0;
-  for (size_t i = 0; i < run.frames.size(); ++i) {
-    posed += run.frames[i].error.has_value();
-    if (i >= 225 && run.frames[i].error) worst_after = std::max(worst_after, *run.frames[i].error);
-  }
-  EXPECT_GE(posed, 295);
+  for (size_t i = 225; i < run.frames.size(); ++i)
+    if (run.frames[i].error) worst_after = std::max(worst_after, *run.frames[i].error);
+  EXPECT_GE(run.posed(), 295);
   EXPECT_LT(worst_after, 0.005);
 }
 
