@@ -3,7 +3,8 @@
 #include <algorithm>
 
 #include <Eigen/Cholesky>
-#include <Eigen/QR>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 
 namespace slamcmp {
 
@@ -34,7 +35,7 @@ Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const
   return out;
 }
 
-// W = P H^T (n x 2m), S = H (P H^T) + R from the rows of W that H touches, nu = z - h.
+// W = P H^T (n x 2m), S = H (P H^T) + R from the rows of W that H touches, and nu = z - h when asked.
 void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation>& observations, double pixel_sigma,
                     Eigen::MatrixXd* W, Eigen::MatrixXd* S, Eigen::VectorXd* nu) {
   const int m = static_cast<int>(observations.size());
@@ -43,6 +44,7 @@ void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation
   S->resize(2 * m, 2 * m);
   for (int k = 0; k < m; ++k) S->middleRows<2>(2 * k) = applyH(observations[k], *W);
   S->diagonal().array() += pixel_sigma * pixel_sigma;
+  if (!nu) return;
   nu->resize(2 * m);
   for (int k = 0; k < m; ++k) nu->segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
 }
@@ -109,52 +111,111 @@ bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observati
   return kalmanUpdate(state, std::move(W), S, std::move(nu));
 }
 
-bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
-                    const Relinearise& relinearise, int max_iterations, double tolerance) {
-  if (observations->empty()) return true;
-  max_iterations = std::max(max_iterations, 1);
+namespace {
+
+bool knownPointsOnly(const std::vector<PointObservation>& observations) {
+  return std::all_of(observations.begin(), observations.end(),
+                     [](const PointObservation& o) { return featureDim(o) == 0; });
+}
+
+// Gauss-Newton on the prior and the measurements: x_{i+1} = x_0 + correct(nu_i) with
+// nu_i = z - h(x_i) - H_i (x_0 - x_i), until the camera moves by less than `tolerance`. `correct`
+// forms its gain at the observations' current linearisation (false: S is not positive definite).
+template <class Correct>
+bool gaussNewton(const EkfState& state, std::vector<PointObservation>* observations, const Relinearise& relinearise,
+                 int max_iterations, double tolerance, const Correct& correct, Eigen::VectorXd* iterate) {
   const int m = static_cast<int>(observations->size());
-  Eigen::VectorXd iterate = state.x();  // x_i (P stays the prior's)
-  Eigen::MatrixXd W, S;
-  Eigen::VectorXd nu;
-  Eigen::LLT<Eigen::MatrixXd> llt;
-  for (int i = 0; i < max_iterations; ++i) {
-    if (i > 0 && !relinearise(iterate, observations)) return false;
-    gainInnovation(state.P(), *observations, pixel_sigma, &W, &S, &nu);
-    // nu_i = z - h(x_i) - H_i (x_0 - x_i)
-    const Eigen::VectorXd dx = state.x() - iterate;
-    for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) -= applyH((*observations)[k], dx);
-    llt.compute(S.selfadjointView<Eigen::Lower>());
-    if (llt.info() != Eigen::Success) return false;
-    const Eigen::VectorXd next = state.x() + W * llt.solve(nu);
-    const double step = (next.head<kPose>() - iterate.head<kPose>()).lpNorm<Eigen::Infinity>();
-    iterate = next;
+  *iterate = state.x();
+  for (int i = 0; i < std::max(max_iterations, 1); ++i) {
+    if (i > 0 && !relinearise(*iterate, observations)) return false;
+    Eigen::VectorXd nu(2 * m);
+    const Eigen::VectorXd dx = state.x() - *iterate;
+    for (int k = 0; k < m; ++k) {
+      const PointObservation& o = (*observations)[k];
+      nu.segment<2>(2 * k) = o.z - o.h.uv_distorted - applyH(o, dx);
+    }
+    Eigen::VectorXd next = state.x();
+    if (!correct(nu, &next)) return false;
+    const double step = (next.head<kPose>() - iterate->head<kPose>()).lpNorm<Eigen::Infinity>();
+    *iterate = std::move(next);
     if (step < tolerance) break;
   }
-  // P -= K_i S_i K_i^T = W S^-1 W^T, as in batchUpdate.
+  return true;
+}
+
+// P -= W W^T on the lower triangle, mirrored to the upper; x = iterate; q renormalised; the
+// observations re-predicted there (their residuals are the update's).
+void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::VectorXd iterate,
+                          std::vector<PointObservation>* observations, const Relinearise& relinearise) {
   Eigen::MatrixXd& P = state.P();
-  // The QR below needs at least kPose rows (2m > 7); fewer corners never reach an update.
-  const bool camera_only = 2 * m > kPose && std::all_of(observations->begin(), observations->end(),
-                                                         [](const PointObservation& o) { return featureDim(o) == 0; });
-  if (camera_only) {
-    // Known points (the board's corners): W = P_c H^T with P_c = P's (r, q) columns, so
-    // W S^-1 W^T = P_c H^T S^-1 H P_c^T; with L^-1 H = Q R (R 7x7), that is (P_c R^T)(P_c R^T)^T, a
-    // rank-7 update where W's is rank 2m (the rows compressed by QR, as Mourikis and Roumeliotis
-    // 2007 compress an MSCKF update). H is the last iteration's, the one S = L L^T was formed with.
-    Eigen::MatrixXd H_white(2 * m, kPose);
-    for (int k = 0; k < m; ++k) H_white.middleRows<2>(2 * k) = poseJacobian((*observations)[k].h);
-    llt.matrixL().solveInPlace(H_white);  // L^-1 H
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(H_white);
-    const Eigen::Matrix<double, kPose, kPose> R = qr.matrixQR().topRows<kPose>().triangularView<Eigen::Upper>();
-    W = P.leftCols<kPose>() * R.transpose();
-  } else {
-    llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);
-  }
-  state.x() = iterate;
+  state.x() = std::move(iterate);
   P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
   for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
-  relinearise(state.x(), observations);  // the update's residuals (h where it can be predicted)
+  relinearise(state.x(), observations);  // h where it can be predicted
+}
+
+// Known points alone (the board's corners): H = [H_c 0] with H_c over (r, q), and R = s^2 I. By
+// the push-through identity H_c^T (H_c P_cc H_c^T + s^2 I)^-1 = M^-1 H_c^T with M = H_c^T H_c P_cc
+// + s^2 I (7 x 7), the gain is K = P_c M^-1 H_c^T (P_c: P's (r, q) columns) and K S K^T =
+// P_c M^-1 H_c^T H_c P_c^T: no 2m x 2m matrix is formed or factored, and P's update is rank 7.
+bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+                          const Relinearise& relinearise, int max_iterations, double tolerance) {
+  using Mat77 = Eigen::Matrix<double, kPose, kPose>;
+  using Vec7 = Eigen::Matrix<double, kPose, 1>;
+  const Eigen::Matrix<double, Eigen::Dynamic, kPose> P_c = state.P().leftCols<kPose>();
+  const Mat77 P_cc = P_c.topRows<kPose>();
+  const double r = pixel_sigma * pixel_sigma;
+  Mat77 HtH;
+  Eigen::PartialPivLU<Mat77> M;
+  const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {  // false: M singular (P broken)
+    HtH.setZero();
+    Vec7 Ht_nu = Vec7::Zero();
+    for (size_t k = 0; k < observations->size(); ++k) {
+      const Mat27 H = poseJacobian((*observations)[k].h);
+      HtH.noalias() += H.transpose() * H;
+      Ht_nu.noalias() += H.transpose() * nu.segment<2>(2 * k);
+    }
+    M.compute(HtH * P_cc + r * Mat77::Identity());
+    const Vec7 y = M.solve(Ht_nu);
+    if (!y.allFinite()) return false;
+    x->noalias() += P_c * y;
+    return true;
+  };
+  Eigen::VectorXd iterate;
+  if (!gaussNewton(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
+  // K S K^T = P_c C P_c^T with C = M^-1 H_c^T H_c = H_c^T S^-1 H_c, symmetric positive semi-definite
+  // (rank 6 where q's length is unobserved): its eigenvectors scaled by the roots of their values
+  // give W (n x 7) with W W^T = K S K^T. M and H_c are the last iteration's.
+  Mat77 C = M.solve(HtH);
+  C = 0.5 * (C + C.transpose()).eval();
+  const Eigen::SelfAdjointEigenSolver<Mat77> eigen(C);
+  const Vec7 root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::MatrixXd W = P_c * (eigen.eigenvectors() * root.asDiagonal());
+  finishIteratedUpdate(state, W, std::move(iterate), observations, relinearise);
+  return true;
+}
+
+}  // namespace
+
+bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+                    const Relinearise& relinearise, int max_iterations, double tolerance) {
+  if (observations->empty()) return true;
+  if (knownPointsOnly(*observations))
+    return iteratedCameraUpdate(state, observations, pixel_sigma, relinearise, max_iterations, tolerance);
+  Eigen::MatrixXd W, S;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {
+    gainInnovation(state.P(), *observations, pixel_sigma, &W, &S, nullptr);
+    llt.compute(S.selfadjointView<Eigen::Lower>());
+    if (llt.info() != Eigen::Success) return false;
+    x->noalias() += W * llt.solve(nu);
+    return true;
+  };
+  Eigen::VectorXd iterate;
+  if (!gaussNewton(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
+  llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);  // P -= K_i S_i K_i^T = W S^-1 W^T, as in batchUpdate
+  finishIteratedUpdate(state, W, std::move(iterate), observations, relinearise);
   return true;
 }
 

@@ -167,9 +167,9 @@ struct BoardReturn {
   }
 };
 
-// The iterated update of known points alone writes P's update as a rank-7 product (the rows of
-// H compressed by QR); the batch update keeps the rank-2m one. With a map whose points are
-// correlated with the camera, every row of P is compared.
+// The iterated update of known points alone forms its gain in 7 x 7 (the push-through identity)
+// and writes P's update as a rank-7 product; the batch update keeps S (2m x 2m) and the rank-2m
+// one. With a map whose points are correlated with the camera, every row of P is compared.
 TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
   BoardReturn b;
   for (int i = 0; i < 4; ++i) {
@@ -182,7 +182,9 @@ TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
   ASSERT_TRUE(batchUpdate(batch, b.observations(), 0.05));
   std::vector<PointObservation> observations = b.observations();
   ASSERT_TRUE(iteratedUpdate(iterated, &observations, 0.05, relinearise, 1));
-  EXPECT_LT((batch.x() - iterated.x()).norm(), 1e-12);
+  // Both round off: S's 108 x 108 factorisation by 9e-11 of the update, the 7 x 7 gain by 3e-12
+  // (against the dense formula in long double, measured once).
+  EXPECT_LT((batch.x() - iterated.x()).norm(), 1e-9 * (b.prior.x() - batch.x()).norm());
   // Against the size of the update itself (P's untouched velocity entries would dilute it).
   EXPECT_LT((batch.P() - iterated.P()).norm(), 1e-10 * (b.prior.P() - batch.P()).norm());
   EXPECT_GT((iterated.P().bottomRightCorner<12, 12>() - b.prior.P().bottomRightCorner<12, 12>()).norm(), 1e-3)
