@@ -49,6 +49,15 @@ void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation
   for (int k = 0; k < m; ++k) nu->segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
 }
 
+// P -= W W^T, a symmetric rank update of P's lower triangle mirrored to the upper (P stays exactly
+// symmetric), then q renormalised with its Jacobian applied to P.
+void downdate(EkfState& state, const Eigen::MatrixXd& W) {
+  Eigen::MatrixXd& P = state.P();
+  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
+  for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
+  state.renormaliseQuaternion();
+}
+
 }  // namespace
 
 Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
@@ -96,10 +105,7 @@ bool kalmanUpdate(EkfState& state, Eigen::MatrixXd W, const Eigen::MatrixXd& S, 
   llt.matrixL().solveInPlace(nu);                           // L^-1 nu
   llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);          // W <- P H^T L^-T (U = L^T)
   state.x().noalias() += W * nu;                     // K nu = P H^T S^-1 nu
-  Eigen::MatrixXd& P = state.P();
-  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);  // P -= K S K^T = W W^T
-  for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
-  state.renormaliseQuaternion();
+  downdate(state, W);                                // P -= K S K^T = W W^T
   return true;
 }
 
@@ -143,15 +149,12 @@ bool gaussNewton(const EkfState& state, std::vector<PointObservation>* observati
   return true;
 }
 
-// P -= W W^T on the lower triangle, mirrored to the upper; x = iterate; q renormalised; the
-// observations re-predicted there (their residuals are the update's).
+// x = iterate and P -= W W^T, the observations then predicted there (their residuals are the
+// update's).
 void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::VectorXd iterate,
                           std::vector<PointObservation>* observations, const Relinearise& relinearise) {
-  Eigen::MatrixXd& P = state.P();
   state.x() = std::move(iterate);
-  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
-  for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
-  state.renormaliseQuaternion();
+  downdate(state, W);
   relinearise(state.x(), observations);  // h where it can be predicted
 }
 
