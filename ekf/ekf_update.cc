@@ -1,10 +1,10 @@
 #include "ekf/ekf_update.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 
 namespace slamcmp {
 
@@ -158,43 +158,44 @@ void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::Vect
   relinearise(state.x(), observations);  // h where it can be predicted
 }
 
-// Known points alone (the board's corners): H = [H_c 0] with H_c over (r, q), and R = s^2 I. By
-// the push-through identity H_c^T (H_c P_cc H_c^T + s^2 I)^-1 = M^-1 H_c^T with M = H_c^T H_c P_cc
-// + s^2 I (7 x 7), the gain is K = P_c M^-1 H_c^T (P_c: P's (r, q) columns) and K S K^T =
-// P_c M^-1 H_c^T H_c P_c^T: no 2m x 2m matrix is formed or factored, and P's update is rank 7.
+// Known points alone (the board's corners): H = [H_c 0] with H_c over (r, q), and R = s^2 I. With
+// G^T G = H_c^T H_c (G 7 x 7, from the eigen-decomposition; rank 6, q's length is unobserved) the
+// push-through identity gives H_c^T S^-1 H_c = G^T N^-1 G and K nu = P_c G^T N^-1 G^-T H_c^T nu,
+// with N = G P_cc G^T + s^2 I (P_c: P's (r, q) columns, P_cc their 7 x 7 top). N and S have the
+// same eigenvalues but for some equal to s^2, so S is positive definite when N is. No 2m x 2m
+// matrix is formed or factored, and K S K^T = W W^T with W = P_c G^T L^-T (N = L L^T): rank 7.
 bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                           const Relinearise& relinearise, int max_iterations, double tolerance) {
   using Mat77 = Eigen::Matrix<double, kPose, kPose>;
   using Vec7 = Eigen::Matrix<double, kPose, 1>;
-  const Eigen::Matrix<double, Eigen::Dynamic, kPose> P_c = state.P().leftCols<kPose>();
+  const auto P_c = state.P().leftCols<kPose>();  // P is not written before the downdate
   const Mat77 P_cc = P_c.topRows<kPose>();
-  const double r = pixel_sigma * pixel_sigma;
-  Mat77 HtH;
-  Eigen::PartialPivLU<Mat77> M;
-  const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {  // false: M singular (P broken)
-    HtH.setZero();
+  const double noise_var = pixel_sigma * pixel_sigma;
+  Mat77 G;
+  Eigen::LLT<Mat77> N;
+  const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {  // false: S not positive definite
+    Mat77 HtH = Mat77::Zero();
     Vec7 Ht_nu = Vec7::Zero();
     for (size_t k = 0; k < observations->size(); ++k) {
       const Mat27 H = poseJacobian((*observations)[k].h);
       HtH.noalias() += H.transpose() * H;
-      Ht_nu.noalias() += H.transpose() * nu.segment<2>(2 * k);
+      Ht_nu.noalias() += H.transpose() * nu.segment<2>(2 * static_cast<long>(k));
     }
-    M.compute(HtH * P_cc + r * Mat77::Identity());
-    const Vec7 y = M.solve(Ht_nu);
-    if (!y.allFinite()) return false;
-    x->noalias() += P_c * y;
+    const Eigen::SelfAdjointEigenSolver<Mat77> eigen(HtH);
+    const Vec7 lambda = eigen.eigenvalues().cwiseMax(0.0);
+    G = lambda.cwiseSqrt().asDiagonal() * eigen.eigenvectors().transpose();
+    N.compute(G * P_cc * G.transpose() + noise_var * Mat77::Identity());
+    if (N.info() != Eigen::Success) return false;
+    // G^-T H_c^T nu: H_c^T nu lies in G^T's range, so the directions H_c does not see are left out.
+    Vec7 c = eigen.eigenvectors().transpose() * Ht_nu;
+    for (int i = 0; i < kPose; ++i) c(i) = lambda(i) > 1e-12 * lambda.maxCoeff() ? c(i) / std::sqrt(lambda(i)) : 0.0;
+    x->noalias() += P_c * (G.transpose() * N.solve(c));
     return true;
   };
   Eigen::VectorXd iterate;
   if (!gaussNewton(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
-  // K S K^T = P_c C P_c^T with C = M^-1 H_c^T H_c = H_c^T S^-1 H_c, symmetric positive semi-definite
-  // (rank 6 where q's length is unobserved): its eigenvectors scaled by the roots of their values
-  // give W (n x 7) with W W^T = K S K^T. M and H_c are the last iteration's.
-  Mat77 C = M.solve(HtH);
-  C = 0.5 * (C + C.transpose()).eval();
-  const Eigen::SelfAdjointEigenSolver<Mat77> eigen(C);
-  const Vec7 root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-  const Eigen::MatrixXd W = P_c * (eigen.eigenvectors() * root.asDiagonal());
+  Eigen::MatrixXd W = P_c * G.transpose();  // G and N are the last iteration's
+  N.matrixU().solveInPlace<Eigen::OnTheRight>(W);
   finishIteratedUpdate(state, W, std::move(iterate), observations, relinearise);
   return true;
 }

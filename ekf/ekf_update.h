@@ -47,13 +47,14 @@ using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<Poi
 // The iterated EKF update (Bell and Cathey 1993: Gauss-Newton on the prior and the measurements):
 // x_{i+1} = x_0 + K_i (z - h(x_i) - H_i (x_0 - x_i)), with H_i and K_i = P H_i^T S_i^-1 at x_i,
 // until the camera moves by less than `tolerance` (metres, quaternion units) or after
-// `max_iterations`; P from the last K_i and H_i. For known points alone, whose H touches only
-// (r, q), the gain is formed in 7 x 7 (no 2m x 2m S is formed) and P's update is rank 7 where
-// batchUpdate's is rank 2m: the same x and P up to rounding. One
-// iteration is batchUpdate. It matters where the prior is far from the measurements compared with
-// their noise (a board found again after a drift: one linearisation there lands centimetres off). `observations` leave with h at the updated state
-// (where it can be predicted), so z - h are the update's residuals. max_iterations below 1 is 1. Returns false, leaving the state untouched, when S is not
-// positive definite or an observation cannot be predicted at an iterate.
+// `max_iterations` (below 1 is 1); P from the last K_i and H_i. One iteration is batchUpdate. For
+// known points alone, whose H touches only (r, q), the gain is formed in 7 x 7 (no 2m x 2m S)
+// and P's update has rank at most 7 where batchUpdate's has 2m: the same x and P up to rounding.
+// It matters where the prior is far from the measurements compared with their noise (a board
+// found again after a drift: one linearisation there lands centimetres off). `observations`
+// leave with h at the updated state (where it can be predicted), so z - h are the update's
+// residuals. Returns false, leaving the state untouched, when S is not positive definite or an
+// observation cannot be predicted at an iterate.
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                     const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);
 

@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
@@ -189,6 +190,48 @@ TEST(EkfUpdate, OneIterationIsTheBatchUpdate) {
   EXPECT_LT((batch.P() - iterated.P()).norm(), 1e-10 * (b.prior.P() - batch.P()).norm());
   EXPECT_GT((iterated.P().bottomRightCorner<12, 12>() - b.prior.P().bottomRightCorner<12, 12>()).norm(), 1e-3)
       << "the map's block moves with the camera";
+}
+
+// The filter's own P is singular along q (renormaliseQuaternion projects q's length out), and a
+// board may show only a few corners (2m < 7: H's rank under 6): the 7 x 7 gain still gives the
+// batch update's x and P, and P stays positive semi-definite.
+TEST(EkfUpdate, OneIterationIsTheBatchUpdateWithFewCornersAndTheFiltersCovariance) {
+  for (const size_t corners : {1, 3, 54}) {
+    BoardReturn b;
+    b.corners.resize(corners);
+    b.uv.resize(corners);
+    Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(3, b.prior.size());
+    cross.leftCols<3>() = 0.5 * 0.1 * 0.1 * Mat3::Identity();
+    b.prior.append(Vec3(0.1, -0.05, 0.5), Mat3::Identity() * 0.02, cross);
+    b.prior.P().block<4, 4>(EkfState::kQ, EkfState::kQ) += 1e-4 * Eigen::Matrix4d::Ones();  // correlated q
+    b.prior.renormaliseQuaternion();
+    const Vec4 q = b.prior.q();
+    ASSERT_LT((b.prior.P().block<4, 4>(EkfState::kQ, EkfState::kQ) * q).norm(), 1e-12);
+    const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
+    EkfState batch = b.prior, iterated = b.prior;
+    ASSERT_TRUE(batchUpdate(batch, b.observations(), 0.05));
+    std::vector<PointObservation> observations = b.observations();
+    ASSERT_TRUE(iteratedUpdate(iterated, &observations, 0.05, relinearise, 1));
+    EXPECT_LT((batch.x() - iterated.x()).norm(), 1e-9 * (b.prior.x() - batch.x()).norm()) << corners << " corners";
+    EXPECT_LT((batch.P() - iterated.P()).norm(), 1e-9 * (b.prior.P() - batch.P()).norm()) << corners << " corners";
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(iterated.P()).eigenvalues().minCoeff(),
+              -1e-12 * iterated.P().norm())
+        << corners << " corners";
+  }
+}
+
+// A camera covariance broken by round-off (negative position variances) makes S indefinite: the
+// iterated update of known points refuses it as the batch update does, and leaves the state.
+TEST(EkfUpdate, IteratedUpdateRefusesAnIndefiniteCameraCovariance) {
+  BoardReturn b;
+  b.prior.P().topLeftCorner<3, 3>() = -1e-2 * Mat3::Identity();
+  const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
+  EkfState batch = b.prior, iterated = b.prior;
+  EXPECT_FALSE(batchUpdate(batch, b.observations(), 0.05));
+  std::vector<PointObservation> observations = b.observations();
+  EXPECT_FALSE(iteratedUpdate(iterated, &observations, 0.05, relinearise));
+  EXPECT_EQ(iterated.x(), b.prior.x());
+  EXPECT_EQ(iterated.P(), b.prior.P());
 }
 
 // From a prior centimetres off, one linearisation lands millimetres from the board's pose; the
