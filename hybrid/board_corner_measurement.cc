@@ -44,6 +44,7 @@ void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
 namespace {
 
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
+constexpr size_t kSpotChecks = 6;         // corners tracked from both starts before the others are
 
 }  // namespace
 
@@ -135,28 +136,47 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
   } else {
     std::vector<int> ids;
     std::vector<cv::Point2f> uv;
-    // Tracked from the previous frame twice: started where the filter predicts each corner (its
-    // constant-velocity motion: a fast turn moves the board by most of a square a frame) and where
-    // the corner was. Lucas-Kanade started more than half a square off settles on the neighbouring
-    // corner, every corner alike, which neither the gate nor the board's plane can tell; the two
-    // starts agree only on the right one.
+    // Tracked from the previous frame, started where the filter predicts each corner (its
+    // constant-velocity motion: a fast turn moves the board by most of a square a frame).
+    // Lucas-Kanade started more than half a square off settles on a neighbour that looks alike (the
+    // diagonal one), every corner alike, which neither the gate nor the board's plane can tell:
+    // corners are also tracked from where they were, and the two starts agree only on the right
+    // one. Since a bad start moves the whole grid, a few corners spread over the board are checked
+    // first, and the others only if one of those disagrees (a lone corner on its neighbour leaves
+    // the board's plane, where the plane test drops it).
     if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
-      std::vector<cv::Point2f> from_prediction, from_previous;
+      std::vector<cv::Point2f> from_prediction;
       for (int id : tracked_ids_)
         from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
                                      static_cast<float>(pred[id].h.uv_distorted.y()));
-      std::vector<unsigned char> ok_prediction, ok_previous;
+      std::vector<unsigned char> ok;
       std::vector<float> err;
       const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok_prediction, err, lk_window,
+      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok, err, lk_window,
                                options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_previous, ok_previous, err, lk_window,
-                               options_.lk_levels, lk_stop);
+      const auto check = [&](const std::vector<size_t>& which) {  // false when one of them disagrees
+        std::vector<cv::Point2f> previous, from_previous;
+        for (size_t k : which) previous.push_back(tracked_uv_[k]);
+        std::vector<unsigned char> ok_previous;
+        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_previous, ok_previous, err, lk_window,
+                                 options_.lk_levels, lk_stop);
+        bool all_agree = true;
+        for (size_t j = 0; j < which.size(); ++j) {
+          const size_t k = which[j];
+          const bool agree = ok[k] && ok_previous[j] &&
+                             cv::norm(from_prediction[k] - from_previous[j]) <= options_.max_track_disagreement_px;
+          ok[k] = agree;
+          all_agree = all_agree && agree;
+        }
+        return all_agree;
+      };
+      std::vector<size_t> spot, rest;
+      const size_t step = std::max<size_t>(1, tracked_ids_.size() / kSpotChecks);
+      for (size_t k = 0; k < tracked_ids_.size(); ++k) (k % step == 0 ? spot : rest).push_back(k);
+      if (!check(spot) && !rest.empty()) check(rest);
       for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-        const int id = tracked_ids_[k];
-        if (!ok_prediction[k] || !ok_previous[k] || !pred[id].in_image) continue;
-        if (cv::norm(from_prediction[k] - from_previous[k]) > options_.max_track_disagreement_px) continue;
-        ids.push_back(id);
+        if (!ok[k] || !pred[tracked_ids_[k]].in_image) continue;
+        ids.push_back(tracked_ids_[k]);
         uv.push_back(from_prediction[k]);
       }
     }
