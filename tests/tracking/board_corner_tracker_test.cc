@@ -15,6 +15,7 @@
 #include "core/chessboard.h"
 #include "core/sequence.h"
 #include "datasets/synth_sequence.h"
+#include "tests/rendered_preset.h"
 #include "tests/test_util.h"
 #include "tests/tracking/blob_texture.h"
 
@@ -27,31 +28,17 @@ const cv::Size kWindow(9, 9);  // cslam's default Lucas-Kanade window and levels
 constexpr int kLevels = 3;
 constexpr int kFrames = 6;
 
-struct PosedFrame {
-  cv::Mat grey;
-  SE3 T_world_camera;  // ground truth
-};
+using test::PosedFrame;
 
 class BoardCornerTrackerTv1 : public ::testing::Test {
  protected:
   // The first frames of tv1 (rendered with the default anti-aliasing, as the accuracy tests) and
   // their true poses, rendered once for the suite.
   static void SetUpTestSuite() {
-    TempDir dir;
-    SynthOptions options;
-    options.preset = "tv1";
-    options.frames = kFrames;
-    writeSyntheticSequence(options, dir.file("tv1"));
-    Sequence seq = openSequence(dir.file("tv1"));
-    ASSERT_TRUE(seq.camera && seq.target && seq.groundtruth);
-    camera_ = std::make_unique<CameraModel>(*seq.camera);
-    target_ = std::make_unique<ChessboardTarget>(*seq.target);
-    frames_ = std::make_unique<std::vector<PosedFrame>>();
-    for (Frame f; seq.frames->next(&f);) {
-      for (const StampedPose& p : *seq.groundtruth)
-        if (std::abs(p.timestamp - f.timestamp) < 1e-6) frames_->push_back({f.grey, p.T_world_camera});
-    }
-    ASSERT_EQ(static_cast<int>(frames_->size()), kFrames);
+    test::RenderedPreset tv1 = test::renderPreset("tv1", kFrames);
+    camera_ = std::make_unique<CameraModel>(tv1.camera);
+    target_ = std::make_unique<ChessboardTarget>(tv1.target);
+    frames_ = std::make_unique<std::vector<PosedFrame>>(std::move(tv1.frames));
   }
   static void TearDownTestSuite() {
     frames_.reset();
