@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include <Eigen/Eigenvalues>
@@ -44,7 +45,6 @@ void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
 namespace {
 
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
-constexpr size_t kSpotChecks = 6;         // corners tracked from both starts before the others are
 
 }  // namespace
 
@@ -100,6 +100,27 @@ BoardCornerMeasurement BoardCornerMeasurer::measureDetected(const EkfState& stat
   return out;
 }
 
+std::vector<int> spotCheckCorners(const std::vector<int>& ids, int cols) {
+  if (ids.empty()) return {};
+  // Extreme in i, j, i + j and i - j, either way: the hull's vertices, where an affine function
+  // over the tracked part of the board (the start error of a pose error, nearly) is largest.
+  const auto i_of = [cols](int id) { return id % cols; };
+  const auto j_of = [cols](int id) { return id / cols; };
+  const std::function<int(int)> directions[] = {
+      i_of, j_of, [&](int id) { return i_of(id) + j_of(id); }, [&](int id) { return i_of(id) - j_of(id); }};
+  std::vector<int> spot;
+  const auto add = [&spot](int id) {
+    if (std::find(spot.begin(), spot.end(), id) == spot.end()) spot.push_back(id);
+  };
+  for (const auto& along : directions) {
+    const auto [lo, hi] =
+        std::minmax_element(ids.begin(), ids.end(), [&](int a, int b) { return along(a) < along(b); });
+    add(*lo);
+    add(*hi);
+  }
+  return spot;
+}
+
 BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const cv::Mat& grey) {
   const int n = static_cast<int>(corners_world_.size());
   const std::vector<CornerPrediction> pred = predict(state, grey);
@@ -141,41 +162,47 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
     // Lucas-Kanade started more than half a square off settles on a neighbour that looks alike (the
     // diagonal one), every corner alike, which neither the gate nor the board's plane can tell:
     // corners are also tracked from where they were, and the two starts agree only on the right
-    // one. Since a bad start moves the whole grid, a few corners spread over the board are checked
-    // first, and the others only if one of those disagrees (a lone corner on its neighbour leaves
-    // the board's plane, where the plane test drops it).
+    // one. A bad start comes from a pose error, which moves the starts about affinely over the
+    // board: the corners on the hull of those tracked (spotCheckCorners) are checked first, and
+    // the others only if one of those disagrees (a lone corner on its neighbour leaves the board's
+    // plane, where the plane test drops it).
     if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
       std::vector<cv::Point2f> from_prediction;
       for (int id : tracked_ids_)
         from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
                                      static_cast<float>(pred[id].h.uv_distorted.y()));
-      std::vector<unsigned char> ok;
-      std::vector<float> err;
+      std::vector<unsigned char> tracked;
       const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, ok, err, lk_window,
-                               options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-      const auto check = [&](const std::vector<size_t>& which) {  // false when one of them disagrees
+      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, tracked, cv::noArray(),
+                               lk_window, options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+      // Tracks corners `which` (indices into tracked_ids_) from where they were too, and clears
+      // `tracked` for those whose two starts disagree; false when one of them does.
+      const auto check = [&](const std::vector<size_t>& which) {
         std::vector<cv::Point2f> previous, from_previous;
         for (size_t k : which) previous.push_back(tracked_uv_[k]);
-        std::vector<unsigned char> ok_previous;
-        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_previous, ok_previous, err, lk_window,
-                                 options_.lk_levels, lk_stop);
+        std::vector<unsigned char> tracked_previous;
+        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_previous, tracked_previous, cv::noArray(),
+                                 lk_window, options_.lk_levels, lk_stop);
         bool all_agree = true;
         for (size_t j = 0; j < which.size(); ++j) {
           const size_t k = which[j];
-          const bool agree = ok[k] && ok_previous[j] &&
+          const bool agree = tracked[k] && tracked_previous[j] &&
                              cv::norm(from_prediction[k] - from_previous[j]) <= options_.max_track_disagreement_px;
-          ok[k] = agree;
+          tracked[k] = agree;
           all_agree = all_agree && agree;
         }
         return all_agree;
       };
+      std::vector<int> in_image;  // the tracked corners still predicted in the image
+      for (int id : tracked_ids_)
+        if (pred[id].in_image) in_image.push_back(id);
+      const std::vector<int> spot_ids = spotCheckCorners(in_image, target_.cols);
       std::vector<size_t> spot, rest;
-      const size_t step = std::max<size_t>(1, tracked_ids_.size() / kSpotChecks);
-      for (size_t k = 0; k < tracked_ids_.size(); ++k) (k % step == 0 ? spot : rest).push_back(k);
+      for (size_t k = 0; k < tracked_ids_.size(); ++k)
+        (std::find(spot_ids.begin(), spot_ids.end(), tracked_ids_[k]) != spot_ids.end() ? spot : rest).push_back(k);
       if (!check(spot) && !rest.empty()) check(rest);
       for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-        if (!ok[k] || !pred[tracked_ids_[k]].in_image) continue;
+        if (!tracked[k] || !pred[tracked_ids_[k]].in_image) continue;
         ids.push_back(tracked_ids_[k]);
         uv.push_back(from_prediction[k]);
       }

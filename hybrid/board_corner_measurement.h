@@ -65,6 +65,12 @@ struct BoardCornerMeasurementOptions {
   void checkImage(cv::Size image) const;  // the window and the border fit in the image
 };
 
+// The corners of `ids` (SPEC order: id = j * cols + i) checked first for a tracking start a square
+// off: the extremes of i, j, i + j and i - j among them, on the hull of the tracked part of the
+// board, where the start error of a pose error (nearly affine over the board) is largest; at most
+// 8, each once.
+std::vector<int> spotCheckCorners(const std::vector<int>& ids, int cols);
+
 struct BoardCornerMeasurement {
   std::vector<PointObservation> observations;  // offset kKnownPoint; z and h per kept corner
   std::vector<int> corner_ids;                 // the corner index (SPEC order) of each observation

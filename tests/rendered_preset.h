@@ -22,8 +22,8 @@ struct RenderedPreset {
   std::vector<PosedFrame> frames;
 };
 
-// The first `frames` frames of `preset` (seed 1, the default anti-aliasing, as the accuracy tests
-// render them), rendered in a temporary folder that is removed again.
+// The first `frames` (> 0) frames of `preset` (seed 1, the default anti-aliasing, as the accuracy
+// tests render them), rendered in a temporary folder that is removed again.
 RenderedPreset renderPreset(const std::string& preset, int frames);
 
 }  // namespace slamcmp::test
