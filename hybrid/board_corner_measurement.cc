@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <optional>
 
 #include <Eigen/Eigenvalues>
@@ -102,21 +101,16 @@ BoardCornerMeasurement BoardCornerMeasurer::measureDetected(const EkfState& stat
 
 std::vector<int> spotCheckCorners(const std::vector<int>& ids, int cols) {
   if (ids.empty()) return {};
-  // Extreme in i, j, i + j and i - j, either way: the hull's vertices, where an affine function
-  // over the tracked part of the board (the start error of a pose error, nearly) is largest.
-  const auto i_of = [cols](int id) { return id % cols; };
-  const auto j_of = [cols](int id) { return id / cols; };
-  const std::function<int(int)> directions[] = {
-      i_of, j_of, [&](int id) { return i_of(id) + j_of(id); }, [&](int id) { return i_of(id) - j_of(id); }};
+  // Extreme in a i + b j for (a, b) = (1, 0), (0, 1), (1, 1), (1, -1), either way: the hull's
+  // vertices, where an affine function over the tracked part of the board (the start error of a
+  // pose error, nearly) is largest.
+  constexpr int kDirections[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
   std::vector<int> spot;
-  const auto add = [&spot](int id) {
-    if (std::find(spot.begin(), spot.end(), id) == spot.end()) spot.push_back(id);
-  };
-  for (const auto& along : directions) {
-    const auto [lo, hi] =
-        std::minmax_element(ids.begin(), ids.end(), [&](int a, int b) { return along(a) < along(b); });
-    add(*lo);
-    add(*hi);
+  for (const auto& d : kDirections) {
+    const auto along = [&](int id) { return d[0] * (id % cols) + d[1] * (id / cols); };
+    const auto [lo, hi] = std::minmax_element(ids.begin(), ids.end(), [&](int a, int b) { return along(a) < along(b); });
+    for (const int id : {*lo, *hi})
+      if (std::find(spot.begin(), spot.end(), id) == spot.end()) spot.push_back(id);
   }
   return spot;
 }
@@ -157,6 +151,16 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
   } else {
     std::vector<int> ids;
     std::vector<cv::Point2f> uv;
+    // The corners tracked into the last frame that this one's prediction keeps in the image.
+    std::vector<int> track_ids;
+    std::vector<cv::Point2f> previous, from_prediction;
+    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
+      const CornerPrediction& p = pred[tracked_ids_[k]];
+      if (!p.in_image) continue;
+      track_ids.push_back(tracked_ids_[k]);
+      previous.push_back(tracked_uv_[k]);
+      from_prediction.emplace_back(static_cast<float>(p.h.uv_distorted.x()), static_cast<float>(p.h.uv_distorted.y()));
+    }
     // Tracked from the previous frame, started where the filter predicts each corner (its
     // constant-velocity motion: a fast turn moves the board by most of a square a frame).
     // Lucas-Kanade started more than half a square off settles on a neighbour that looks alike (the
@@ -166,22 +170,18 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
     // board: the corners on the hull of those tracked (spotCheckCorners) are checked first, and
     // the others only if one of those disagrees (a lone corner on its neighbour leaves the board's
     // plane, where the plane test drops it).
-    if (!tracked_ids_.empty() && !pyramid_prev_.empty()) {
-      std::vector<cv::Point2f> from_prediction;
-      for (int id : tracked_ids_)
-        from_prediction.emplace_back(static_cast<float>(pred[id].h.uv_distorted.x()),
-                                     static_cast<float>(pred[id].h.uv_distorted.y()));
+    if (!track_ids.empty() && !pyramid_prev_.empty()) {
       std::vector<unsigned char> tracked;
       const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, tracked_uv_, from_prediction, tracked, cv::noArray(),
-                               lk_window, options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-      // Tracks corners `which` (indices into tracked_ids_) from where they were too, and clears
+      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_prediction, tracked, cv::noArray(), lk_window,
+                               options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+      // Tracks corners `which` (indices into track_ids) from where they were too, and clears
       // `tracked` for those whose two starts disagree; false when one of them does.
       const auto check = [&](const std::vector<size_t>& which) {
-        std::vector<cv::Point2f> previous, from_previous;
-        for (size_t k : which) previous.push_back(tracked_uv_[k]);
+        std::vector<cv::Point2f> from, from_previous;
+        for (size_t k : which) from.push_back(previous[k]);
         std::vector<unsigned char> tracked_previous;
-        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_previous, tracked_previous, cv::noArray(),
+        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, from, from_previous, tracked_previous, cv::noArray(),
                                  lk_window, options_.lk_levels, lk_stop);
         bool all_agree = true;
         for (size_t j = 0; j < which.size(); ++j) {
@@ -193,17 +193,14 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
         }
         return all_agree;
       };
-      std::vector<int> in_image;  // the tracked corners still predicted in the image
-      for (int id : tracked_ids_)
-        if (pred[id].in_image) in_image.push_back(id);
-      const std::vector<int> spot_ids = spotCheckCorners(in_image, target_.cols);
+      const std::vector<int> spot_ids = spotCheckCorners(track_ids, target_.cols);
       std::vector<size_t> spot, rest;
-      for (size_t k = 0; k < tracked_ids_.size(); ++k)
-        (std::find(spot_ids.begin(), spot_ids.end(), tracked_ids_[k]) != spot_ids.end() ? spot : rest).push_back(k);
+      for (size_t k = 0; k < track_ids.size(); ++k)
+        (std::find(spot_ids.begin(), spot_ids.end(), track_ids[k]) != spot_ids.end() ? spot : rest).push_back(k);
       if (!check(spot) && !rest.empty()) check(rest);
-      for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-        if (!tracked[k] || !pred[tracked_ids_[k]].in_image) continue;
-        ids.push_back(tracked_ids_[k]);
+      for (size_t k = 0; k < track_ids.size(); ++k) {
+        if (!tracked[k]) continue;
+        ids.push_back(track_ids[k]);
         uv.push_back(from_prediction[k]);
       }
     }
