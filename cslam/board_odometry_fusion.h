@@ -43,8 +43,9 @@ struct BoardOdometryFusionOptions {
   // times the settled error; the gate fires in 0-6 of ~200 board frames on the presets.
   int max_held_frames = 1;
   // When the board returns after a gap the filter restarts from the board and the refined map
-  // together, and the map's points are trusted to this fraction of the path travelled since the
-  // board was last seen (the presets' gaps drift 0.15-0.6 %). 0: as if they had not drifted,
+  // together, as its first corners come back and again as its whole view re-anchors the map, and
+  // the map's points are trusted to this fraction of the path travelled since the board last
+  // anchored the map (the presets' gaps drift 0.15-0.6 %). 0: as if they had not drifted,
   // which suits cv::cornerSubPix's corners (a strip's pose leans with their bias); with the
   // gradient corners 0.002 takes board_leaves' half boards (seeds 1-3) from 0.31-0.92 to 0.23-0.39
   // mm (configs/cslam_gradient.yaml).
@@ -70,8 +71,9 @@ struct BoardOdometryFusionOptions {
       "frames in a row whose board pose beyond max_mahalanobis2 is taken for an outlier (the prediction stands) "
       "before the prediction gives way (0: it always gives way)");
     v("map_drift_fraction", map_drift_fraction,
-      "when the board returns after a gap, the map's points are trusted to this fraction of the path travelled "
-      "since it was last seen (0: as if they had not drifted)");
+      "when the board returns after a gap (its first corners, its whole view re-anchoring the map), the map's "
+      "points are trusted to this fraction of the path travelled since it last anchored the map (0: as if they "
+      "had not drifted)");
   }
   void check() const;
 };

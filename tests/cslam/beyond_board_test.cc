@@ -166,7 +166,10 @@ void expectReacquiredWithoutLag(const std::vector<FrameRecord>& records, double 
   EXPECT_EQ(records[back].status, "board");
   std::vector<double> after;
   for (int i = back; i < back + 30; ++i) after.push_back(*records[i].error);
-  EXPECT_LT(rms(after), factor * continuousRms(records, 54)) << rms(after) << " m against " << continuousRms(records, 54);
+  const double settled = continuousRms(records, 54);
+  std::printf("30 frames from the return %.3f mm, settled %.3f mm: %.2f\n", 1e3 * rms(after), 1e3 * settled,
+              rms(after) / settled);
+  EXPECT_LT(rms(after), factor * settled) << rms(after) << " m against " << settled;
 }
 
 // board_partial's first 60 frames: up to half the board leaves the image, and boxes in front of
@@ -217,7 +220,8 @@ TEST(CslamBeyondBoard, BoardLeavesGapReturnAndReanchoring) {
 // the gradient corners alone. The gradient corners cut the whole board's error (measured 0.70 ->
 // 0.41 mm RMS); trusting the gap's map only to its drift lets the half boards of the return be as
 // good as their corners (measured 0.60 with the defaults, 0.52 with the gradient corners alone,
-// 0.43 mm with the file).
+// 0.43 mm with the file). The file's 30 frames from the return are within 1.2 times its settled
+// error (measured 0.29; 0.37 while the re-anchoring trusted the map as if no drift were left).
 TEST(CslamBeyondBoard, GradientCornersAndTheGapsMapTrustedToItsDrift) {
   TempDir dir;
   const std::string path = render(dir, "board_leaves", 210);
@@ -231,16 +235,18 @@ TEST(CslamBeyondBoard, GradientCornersAndTheGapsMapTrustedToItsDrift) {
   struct Rms {
     double returning_half, whole;
   };
-  const auto score = [&](const char* name, const CslamOptions& options) {
+  const auto score = [&](const char* name, const CslamOptions& options, bool hold_return = false) {
     SCOPED_TRACE(name);
-    const HalfAndWhole errors = halfAndWhole(run(path, "combined", options), true);
+    const std::vector<FrameRecord> records = run(path, "combined", options);
+    if (hold_return) expectReacquiredWithoutLag(records, 1.2);
+    const HalfAndWhole errors = halfAndWhole(records, true);
     EXPECT_GE(errors.half.size(), 4u);
     std::printf("%s: returning half boards %.3f mm, whole board %.3f mm\n", name, 1e3 * rms(errors.half),
                 1e3 * rms(errors.whole));
     return Rms{rms(errors.half), rms(errors.whole)};
   };
   const Rms defaults = score("defaults", CslamOptions{}), alone = score("gradient alone", gradient_alone),
-            with_file = score("the file", file);
+            with_file = score("the file", file, true);
   EXPECT_LT(with_file.whole, 0.7 * defaults.whole) << with_file.whole << " m against " << defaults.whole;
   EXPECT_LT(with_file.returning_half, 0.8 * defaults.returning_half)
       << with_file.returning_half << " m against " << defaults.returning_half;
