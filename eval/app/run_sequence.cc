@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <csignal>  // sigaction (POSIX)
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -176,6 +177,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     extra["after_loss"] = "one map at one scale: lost frames are posed again only once the map made while "
                           "the run was posed is found again (relocalised), never from a new map";
   }
+  std::filesystem::remove(out_dir + "/nees.csv");  // a run scored before into this folder: not this run's
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
@@ -186,8 +188,10 @@ nlohmann::json runSequence(const RunRequest& request) {
         T_gt_estimate = errors->T_gt_estimate;
         if (scale_free) extra["scale"] = T_gt_estimate.scale;
       }
-      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free))
+      if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free)) {
         extra["nees"] = neesToJson(*nees);
+        writeNeesCsv(out_dir + "/nees.csv", nees->per_frame);  // for compare's test over trials
+      }
     } catch (const InputError& e) {  // the run is fine; only its score is impossible
       extra["metrics_error"] = e.what();
     }

@@ -1,9 +1,12 @@
 #include "eval/metrics/nees.h"
 
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 
 #include <Eigen/Cholesky>
 
+#include "core/error.h"
 #include "eval/metrics/associate.h"
 
 namespace slamcmp {
@@ -59,6 +62,7 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   }
   double sum = 0;
   int n = 0;
+  std::vector<TimedNees> per_frame;
   for (size_t k = 0; k < pairs.size(); ++k) {
     const SE3& gt = groundtruth[pairs.groundtruth[k]].T_world_camera;
     const CovariantPose& est = estimate[pairs.estimate[k]];
@@ -71,7 +75,9 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     e << gt.t() - T_gt_est.t(), rotvecFromRotation(gt.R() * T_gt_est.R().transpose());
     const Eigen::LLT<PoseCovariance> llt(G * est.covariance * G.transpose());
     if (llt.info() != Eigen::Success) continue;
-    sum += e.dot(llt.solve(e));
+    const double nees = e.dot(llt.solve(e));
+    per_frame.push_back({est.timestamp, nees});
+    sum += nees;
     ++n;
   }
   if (n == 0) return std::nullopt;
@@ -80,11 +86,49 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   r.mean = sum / n;
   r.lower = chiSquareQuantile(0.025, 6.0 * n) / n;
   r.upper = chiSquareQuantile(0.975, 6.0 * n) / n;
+  r.per_frame = std::move(per_frame);
   return r;
 }
 
 nlohmann::json neesToJson(const NeesResult& nees) {
   return {{"mean", nees.mean}, {"dof", nees.dof}, {"lower", nees.lower}, {"upper", nees.upper}, {"frames", nees.frames}};
+}
+
+void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows) {
+  std::ofstream out(path);
+  if (!out) throw InputError(path, "cannot be written");
+  out << "timestamp,nees\n" << std::setprecision(17);
+  for (const TimedNees& r : rows) out << r.timestamp << "," << r.nees << "\n";
+  if (!out) throw InputError(path, "cannot be written");
+}
+
+std::vector<TimedNees> readNeesCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be read");
+  std::string line;
+  if (!std::getline(in, line) || line != "timestamp,nees") throw InputError(path + ":1", "header is not timestamp,nees");
+  std::vector<TimedNees> rows;
+  for (int n = 2; std::getline(in, line); ++n) {
+    const std::string where = path + ":" + std::to_string(n);
+    const size_t comma = line.find(',');
+    if (comma == std::string::npos) throw InputError(where, "expected timestamp,nees");
+    TimedNees r;
+    const auto number = [&](const std::string& text, const char* field) {
+      size_t used = 0;
+      double v = NAN;
+      try {
+        v = std::stod(text, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != text.size() || !std::isfinite(v)) throw InputError(where, std::string(field) + " is not a finite number");
+      return v;
+    };
+    r.timestamp = number(line.substr(0, comma), "timestamp");
+    r.nees = number(line.substr(comma + 1), "nees");
+    if (r.nees < 0) throw InputError(where, "nees is negative");
+    rows.push_back(r);
+  }
+  return rows;
 }
 
 }  // namespace slamcmp

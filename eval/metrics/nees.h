@@ -4,6 +4,7 @@
 // over the run, with the 95 % bounds of that average for a consistent filter (Bar-Shalom, Li and
 // Kirubarajan 2001, 5.4.2: N times the average is chi-square with 6N dof).
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -20,11 +21,18 @@ struct CovariantPose {
   PoseCovariance covariance;
 };
 
+// One scored pose's NEES, at the estimate's timestamp.
+struct TimedNees {
+  double timestamp = 0;
+  double nees = 0;
+};
+
 struct NeesResult {
   double mean = 0;
   int dof = 6;
   double lower = 0, upper = 0;  // 95 % bounds of the mean for a consistent filter
   int frames = 0;               // poses scored
+  std::vector<TimedNees> per_frame;  // in the estimate's order (nees.csv)
 };
 
 // Poses associated with the ground truth by timestamp (within max_diff seconds); poses whose
@@ -44,5 +52,11 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
 double chiSquareQuantile(double probability, double dof);
 
 nlohmann::json neesToJson(const NeesResult& nees);
+
+// nees.csv: `timestamp,nees`, a row a scored pose (what compare's Monte Carlo test reads back). The
+// reader throws InputError naming the file, line and field of a value that is not a finite number
+// (or a NEES below zero).
+void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows);
+std::vector<TimedNees> readNeesCsv(const std::string& path);
 
 }  // namespace slamcmp

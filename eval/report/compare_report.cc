@@ -47,6 +47,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   r.frames = readFramesCsv(dir + "/frames.csv");
   if (r.summary.value("tracked", 0) > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
+  if (fs::exists(dir + "/nees.csv")) r.nees = readNeesCsv(dir + "/nees.csv");
   if (seq.scene) {
     r.map = readMapPly(dir + "/map.ply");
     if (r.errors && r.errors->align == "sim3")  // a scale-free map, through its trajectory's alignment
@@ -54,6 +55,16 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
     r.map_errors = evaluateMap(r.map, *seq.scene);
   }
   return r;
+}
+
+std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
+                                                   size_t m) {
+  std::vector<std::vector<TimedNees>> trials;
+  for (size_t k = 0; k < runs.size(); ++k)
+    if (plan.runs[k].sequence == s && plan.runs[k].method == m && runs[k].status == "ok" && !runs[k].nees.empty())
+      trials.push_back(runs[k].nees);
+  if (trials.size() < 2) return std::nullopt;
+  return monteCarloNees(trials);
 }
 
 namespace {
@@ -278,6 +289,32 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
         md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << cellText(cell, "map_points", 1, 0) << " | "
            << cellText(cell, "map_median_m", 1e3, 2) << " | " << cellText(cell, "map_within_1cm", 100, 0) << " |\n";
       }
+  }
+
+  // A filter's honesty over the trials (runs that scored their covariances: nees.csv).
+  std::vector<std::string> nees_rows;
+  for (size_t s = 0; s < seqs.size(); ++s)
+    for (size_t m = 0; m < methods.size(); ++m) {
+      if (const auto mc = trialsMonteCarloNees(plan, runs, s, m)) {
+        const double steps = mc->steps();
+        const auto [fewest, most] = std::minmax_element(mc->trials.begin(), mc->trials.end());
+        nees_rows.push_back("| " + seqs[s].name + " | " + methods[m].label() + " | " + std::to_string(*fewest) +
+                            (*fewest == *most ? "" : "-" + std::to_string(*most)) + " | " +
+                            std::to_string(mc->steps()) + " | " + fmt(mc->mean, 2) + " | " + fmt(100 * mc->inside / steps, 0) +
+                            " | " + fmt(100 * mc->above / steps, 0) + " | " + fmt(100 * mc->below / steps, 0) + " | " +
+                            cellText(cellRuns(plan, runs, s, m), "nees_mean", 1, 2) + " |\n");
+      }
+    }
+  if (!nees_rows.empty()) {
+    md << "\n## Consistency over the trials (Monte Carlo NEES)\n\n"
+       << "The pose NEES (6 dof) of each frame averaged over the trials that scored it (ANEES), against the 95 % "
+          "interval of chi-square with 6M dof over M for M trials (Bar-Shalom, Li and Kirubarajan 2001, 5.4.2): a "
+          "consistent filter's ANEES is inside on about 95 % of the frames, above where it is overconfident, below "
+          "where it is underconfident. The last column is each run's own average (summary.json's `nees`, mean ± std "
+          "over the trials), whose chi-square bounds assume frames independent, which a filter's errors are not.\n\n"
+       << "| video | method | trials a frame | frames | ANEES mean | inside [%] | above [%] | below [%] | "
+          "run NEES mean |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const std::string& row : nees_rows) md << row;
   }
 
   // Runs that did not finish: a compare interrupted, a run that failed, or runs not yet done.

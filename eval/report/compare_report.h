@@ -1,6 +1,6 @@
 #pragma once
 // compare's report: every run read back from its folder (summary.json, frames.csv,
-// trajectory.txt, map.ply), scored, and written as report.md, CSV tables and figures. It reads
+// trajectory.txt, map.ply, nees.csv), scored, and written as report.md, CSV tables and figures. It reads
 // only what a user could read, so runs finished anywhere (compare, GNU parallel, Slurm) give the
 // same report.
 #include <optional>
@@ -13,6 +13,8 @@
 #include "core/trajectory.h"
 #include "datasets/scene.h"
 #include "eval/metrics/map_metrics.h"
+#include "eval/metrics/monte_carlo_nees.h"
+#include "eval/metrics/nees.h"
 #include "eval/metrics/run_errors.h"
 
 namespace slamcmp {
@@ -52,6 +54,7 @@ struct RunResult {
   std::vector<FrameRow> frames;
   Trajectory trajectory;
   std::optional<RunErrors> errors;
+  std::vector<TimedNees> nees;           // nees.csv, when the run scored its covariances
   std::vector<MapPoint> map;             // map.ply, read back when the sequence has a scene
   std::optional<MapEvaluation> map_errors;
 };
@@ -66,6 +69,11 @@ SequenceInfo readSequenceInfo(const std::string& path);
 RunResult loadRun(const Method& method, const std::string& dir, const SequenceInfo& seq);
 
 struct Plan;
+
+// Bar-Shalom's test over the trials of sequence s and method m (plan.runs[k] is runs[k]): their
+// finished runs that scored their covariances (nees.csv); nothing with fewer than 2.
+std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
+                                                   size_t m);
 
 // report.md, results.csv (one row a run), table_3_1.csv, table_3_2.csv and figures/ in out_dir.
 // runs[k] is plan.runs[k] read back; seqs[s] the plan's given sequence s. Everything written

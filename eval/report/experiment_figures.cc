@@ -159,6 +159,39 @@ Figure stagesFigure(const Plan& plan, const SequenceInfo& seq, size_t s, const s
   return fig;
 }
 
+// Each method's ANEES per frame over the trials (log scale) with its 95 % interval, dashed: the
+// frames where the filter is over- or underconfident (ov_eval's NEES plot). Nothing when no method
+// scored its covariances in 2 trials or more.
+Figure aneesFigure(const Plan& plan, const SequenceInfo& seq, size_t s, const std::vector<RunResult>& runs) {
+  Figure fig;
+  PlotPanel p;
+  p.xlabel = "time [s]";
+  p.ylabel = "ANEES (6 dof)";
+  p.log_y = true;
+  for (size_t m = 0; m < plan.methods.size(); ++m) {
+    const auto mc = trialsMonteCarloNees(plan, runs, s, m);
+    if (!mc) continue;
+    PlotSeries anees, lower, upper;
+    anees.label = plan.methods[m].label() + " (" + fmt(100.0 * mc->inside / mc->steps(), 0) + " % inside)";
+    lower.label = upper.label = "";
+    anees.color = lower.color = upper.color = plan.methods[m].colour;
+    lower.dashed = upper.dashed = true;
+    lower.width = upper.width = 1;
+    anees.x = lower.x = upper.x = mc->timestamps;
+    anees.y = mc->anees;
+    lower.y = mc->lower;
+    upper.y = mc->upper;
+    p.series.push_back(anees);
+    p.series.push_back(lower);
+    p.series.push_back(upper);
+  }
+  if (p.series.empty()) return fig;
+  fig.title = seq.name + ": NEES averaged over the trials, with its 95 % interval (dashed)";
+  fig.panel_height_px = 420;
+  fig.panels.push_back(p);
+  return fig;
+}
+
 }  // namespace
 
 std::vector<std::string> writeExperimentFigures(const Plan& plan, const std::vector<SequenceInfo>& seqs,
@@ -173,6 +206,8 @@ std::vector<std::string> writeExperimentFigures(const Plan& plan, const std::vec
   if (plan.trials > 1) save(ateBoxplot(plan, seqs, runs), "ate_boxplot");
   if (!plan.swept_keys.empty()) save(sweepFigure(plan, seqs, runs), "sweep_ate_cpu");
   for (size_t s = 0; s < seqs.size(); ++s) save(stagesFigure(plan, seqs[s], s, runs), seqs[s].name + "_stages");
+  if (plan.trials > 1)
+    for (size_t s = 0; s < seqs.size(); ++s) save(aneesFigure(plan, seqs[s], s, runs), seqs[s].name + "_anees");
   return written;
 }
 

@@ -1,5 +1,8 @@
 #include "eval/report/experiment_plan.h"
 
+#include <cstdint>
+#include <cstdio>
+
 #include "core/error.h"
 
 namespace slamcmp {
@@ -10,7 +13,15 @@ std::string Method::slug() const {
   if (!setting.empty()) s += "-" + setting;
   for (char& c : s)
     if (c == ' ' || c == '/' || c == ':') c = '_';  // a folder name
-  return s;
+  // A file name holds 255 bytes, and the run's log adds the sequence and trial: a setting of many
+  // options is cut and told apart from the others by a hash of the whole (FNV-1a, 64 bits).
+  constexpr size_t kMaxSlug = 120;
+  if (s.size() <= kMaxSlug) return s;
+  std::uint64_t hash = 14695981039346656037ull;
+  for (const unsigned char c : s) hash = (hash ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+  return s.substr(0, kMaxSlug - 17) + "-" + hex;
 }
 
 std::string sweptValue(const PlannedRun& run, const std::string& key) {

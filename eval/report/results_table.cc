@@ -52,6 +52,7 @@ const std::vector<RunColumn>& runColumns() {
        [](const RunResult& r) { return r.map_errors ? static_cast<double>(r.map_errors->stats.distance.count) : NAN; }},
       {"map_median_m", [](const RunResult& r) { return r.map_errors ? r.map_errors->stats.distance.median : NAN; }},
       {"map_within_1cm", [](const RunResult& r) { return r.map_errors ? r.map_errors->stats.within_1cm : NAN; }},
+      {"nees_mean", [](const RunResult& r) { return jsonNumber(r.summary, {"nees", "mean"}); }},
   };
   return columns;
 }

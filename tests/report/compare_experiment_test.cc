@@ -93,7 +93,8 @@ CompareOptions shortCompare(const std::string& sequence, const std::string& meth
 
 // Three trials of cslam swept over two feature counts and of monoslam: a row per run with its
 // trial, seed and swept value; each report cell is the mean ± population std of results.csv's
-// numbers, recomputed here; the sweep's and the trials' figures are drawn.
+// numbers, recomputed here; monoslam's NEES over the trials is recomputed from its runs' nees.csv;
+// the sweep's, the trials' and the NEES figures are drawn.
 TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
   ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
   TempDir tmp;
@@ -137,7 +138,39 @@ TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
     EXPECT_NE(row.find("| " + meanStd(cpu[label]) + " |"), std::string::npos) << row << " vs " << meanStd(cpu[label]);
   }
   EXPECT_NE(report.find("## Sweep: accuracy against CPU time"), std::string::npos);
-  for (const char* figure : {"ate_boxplot", "sweep_ate_cpu", "tv1_stages"}) {
+  // monoslam's NEES over the trials, frame by frame (its runs' nees.csv): the mean of the frames'
+  // trial averages, recomputed here, and the share of frames inside their interval in [0, 100].
+  std::map<double, std::vector<double>> per_frame;
+  for (const auto& row : rows) {
+    if (row.at("method") != "monoslam") continue;
+    const std::vector<std::string> lines = test::readLines(tmp.file("out/" + row.at("run") + "/nees.csv"));
+    ASSERT_GT(lines.size(), 10u) << row.at("run");
+    EXPECT_EQ(lines[0], "timestamp,nees");
+    double sum = 0;
+    for (size_t k = 1; k < lines.size(); ++k) {
+      const std::vector<std::string> f = csvFields(lines[k]);
+      per_frame[std::stod(f[0])].push_back(std::stod(f[1]));
+      sum += std::stod(f[1]);
+    }
+    EXPECT_NEAR(std::stod(row.at("nees_mean")), sum / (lines.size() - 1), 1e-9 * sum);  // summary.json's
+  }
+  double anees_sum = 0;
+  int frames = 0;
+  for (const auto& [t, v] : per_frame) {
+    if (v.size() < 2) continue;
+    double mean = 0;
+    for (double x : v) mean += x / v.size();
+    anees_sum += mean;
+    ++frames;
+  }
+  ASSERT_GT(frames, 10);
+  char anees_text[32];
+  std::snprintf(anees_text, sizeof anees_text, "%.2f", anees_sum / frames);
+  const size_t nees_table = report.find("## Consistency over the trials (Monte Carlo NEES)");
+  ASSERT_NE(nees_table, std::string::npos) << report;
+  const std::string nees_row_start = "| tv1 | monoslam | 3 | " + std::to_string(frames) + " | " + anees_text + " | ";
+  EXPECT_NE(report.find(nees_row_start, nees_table), std::string::npos) << nees_row_start << "\n" << report;
+  for (const char* figure : {"ate_boxplot", "sweep_ate_cpu", "tv1_stages", "tv1_anees"}) {
     EXPECT_TRUE(fs::exists(tmp.file(std::string("out/figures/") + figure + ".png"))) << figure;
     EXPECT_NE(report.find(std::string("(figures/") + figure + ".png)"), std::string::npos) << figure;
   }

@@ -57,6 +57,24 @@ TEST(Compare, ParsesAStartPerMethod) {
   }
 }
 
+// A setting of many options (a configuration given as --set, one value each) names its runs'
+// folders and logs: cut to fit a file name, told apart by a hash of the whole.
+TEST(Compare, LongSettingsMakeShortDistinctFolderNames) {
+  Method a;
+  a.backend = "hybrid";
+  std::string setting;
+  for (int k = 0; k < 12; ++k) setting += (k ? " " : "") + std::string("tracked_motion.option_") + std::to_string(k) + "=0.05";
+  a.setting = setting;
+  Method b = a;
+  b.setting.back() = '6';  // the last value differs, beyond the cut
+  EXPECT_LE(a.slug().size(), 120u);
+  EXPECT_NE(a.slug(), b.slug());
+  EXPECT_EQ(a.slug().substr(0, 40), b.slug().substr(0, 40));
+  EXPECT_EQ(a.slug().find_first_of(" /:"), std::string::npos);
+  a.setting = "features.max_features=50";
+  EXPECT_EQ(a.slug(), "hybrid-features.max_features=50");  // short ones as before
+}
+
 TEST(Compare, RefusesUnknownAndEmptyMethodLists) {
   EXPECT_THROW(parseMethods("nosuchslam"), InputError);
   EXPECT_THROW(parseMethods(","), InputError);

@@ -1,0 +1,42 @@
+#include "eval/metrics/monte_carlo_nees.h"
+
+#include <cmath>
+#include <map>
+
+namespace slamcmp {
+
+std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<TimedNees>>& runs, int dof) {
+  struct Step {
+    double sum = 0;
+    int trials = 0;
+  };
+  std::map<long long, Step> steps;  // by the timestamp in microseconds
+  for (const std::vector<TimedNees>& run : runs)
+    for (const TimedNees& r : run) {
+      Step& step = steps[std::llround(r.timestamp * 1e6)];
+      step.sum += r.nees;
+      ++step.trials;
+    }
+  MonteCarloNees out;
+  out.dof = dof;
+  double sum = 0;
+  for (const auto& [microseconds, step] : steps) {
+    if (step.trials < 2) continue;
+    const double m = step.trials, anees = step.sum / m;
+    const double lower = chiSquareQuantile(0.025, dof * m) / m, upper = chiSquareQuantile(0.975, dof * m) / m;
+    out.timestamps.push_back(static_cast<double>(microseconds) * 1e-6);
+    out.anees.push_back(anees);
+    out.lower.push_back(lower);
+    out.upper.push_back(upper);
+    out.trials.push_back(step.trials);
+    out.inside += anees >= lower && anees <= upper;
+    out.above += anees > upper;
+    out.below += anees < lower;
+    sum += anees;
+  }
+  if (out.anees.empty()) return std::nullopt;
+  out.mean = sum / out.steps();
+  return out;
+}
+
+}  // namespace slamcmp
