@@ -110,6 +110,8 @@ nlohmann::json runSequence(const RunRequest& request) {
   const std::string out_dir =
       request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
   RunRecorder recorder(out_dir, tracker->name());
+  std::error_code ignored;  // a run scored before into this folder: its NEES is not this run's
+  std::filesystem::remove(out_dir + "/nees.csv", ignored);
   const int total = request.max_frames >= 0 && seq.frames->size() >= 0
                         ? std::min(request.max_frames, seq.frames->size())
                         : seq.frames->size();
@@ -177,7 +179,6 @@ nlohmann::json runSequence(const RunRequest& request) {
     extra["after_loss"] = "one map at one scale: lost frames are posed again only once the map made while "
                           "the run was posed is found again (relocalised), never from a new map";
   }
-  std::filesystem::remove(out_dir + "/nees.csv");  // a run scored before into this folder: not this run's
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);

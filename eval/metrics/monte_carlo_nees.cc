@@ -11,12 +11,16 @@ std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<Timed
     int trials = 0;
   };
   std::map<long long, Step> steps;  // by the timestamp in microseconds
-  for (const std::vector<TimedNees>& run : runs)
-    for (const TimedNees& r : run) {
-      Step& step = steps[std::llround(r.timestamp * 1e6)];
-      step.sum += r.nees;
+  for (const std::vector<TimedNees>& run : runs) {
+    std::map<long long, double> frames;  // a timestamp a run scored twice counts once (the last)
+    for (const TimedNees& r : run)
+      if (std::abs(r.timestamp) < 1e12) frames[std::llround(r.timestamp * 1e6)] = r.nees;
+    for (const auto& [microseconds, nees] : frames) {
+      Step& step = steps[microseconds];
+      step.sum += nees;
       ++step.trials;
     }
+  }
   MonteCarloNees out;
   out.dof = dof;
   double sum = 0;

@@ -23,8 +23,11 @@ struct MonteCarloNees {
   int steps() const { return static_cast<int>(anees.size()); }
 };
 
-// runs[i]: trial i's per-frame NEES (nees.csv). Steps are matched by timestamp to a microsecond (a
-// synthetic sequence's trials share their timestamps). Nothing when no step has 2 trials.
+// runs[i]: trial i's per-frame NEES (nees.csv), from independent noise (a synthetic sequence
+// rendered again with another seed: the same images rerun with another seed of the back-end are
+// not independent trials). Steps are matched by timestamp to a microsecond (the trials of a
+// synthetic sequence share their timestamps; timestamps beyond 1e12 s are left out). Nothing when
+// no step has 2 trials.
 std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<TimedNees>>& runs, int dof = 6);
 
 }  // namespace slamcmp

@@ -51,8 +51,9 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   const PosePairs pairs = associateByTime(groundtruth, poses, max_diff);
   if (pairs.size() == 0) return std::nullopt;
   Similarity3 T_gt_estimate = fitted;
+  size_t first = pairs.size();  // the gauge's pose: on its truth by construction, not scored
   if (gauge_at_first) {
-    size_t first = 0;
+    first = 0;
     for (size_t k = 1; k < pairs.size(); ++k)
       if (estimate[pairs.estimate[k]].timestamp < estimate[pairs.estimate[first]].timestamp) first = k;
     const SE3& gt = groundtruth[pairs.groundtruth[first]].T_world_camera;
@@ -64,6 +65,7 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   int n = 0;
   std::vector<TimedNees> per_frame;
   for (size_t k = 0; k < pairs.size(); ++k) {
+    if (k == first) continue;
     const SE3& gt = groundtruth[pairs.groundtruth[k]].T_world_camera;
     const CovariantPose& est = estimate[pairs.estimate[k]];
     // p' = s R p + t, R' = R R_est: the world-frame rotation error turns with R.
@@ -106,10 +108,13 @@ std::vector<TimedNees> readNeesCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be read");
   std::string line;
-  if (!std::getline(in, line) || line != "timestamp,nees") throw InputError(path + ":1", "header is not timestamp,nees");
+  if (std::getline(in, line) && !line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "timestamp,nees") throw InputError(atLine(path, 1), "header is not timestamp,nees");
   std::vector<TimedNees> rows;
   for (int n = 2; std::getline(in, line); ++n) {
-    const std::string where = path + ":" + std::to_string(n);
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // written on Windows
+    if (line.empty()) continue;
+    const std::string where = atLine(path, n);
     const size_t comma = line.find(',');
     if (comma == std::string::npos) throw InputError(where, "expected timestamp,nees");
     TimedNees r;

@@ -43,7 +43,8 @@ struct NeesResult {
 // T_gt_estimate's rotation and translation are replaced by those putting the first associated
 // pose on its ground truth, its scale kept. A fit over the whole run moves that camera off its
 // truth by the fit's residual, which covariances grown from that camera cannot explain (tv1
-// board-free: 141 with the fit, 0.96 with the gauge).
+// board-free: 141 with the fit, 0.96 with the gauge). That first pose is on its truth by
+// construction and is not scored.
 std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
                                    double max_diff, const Similarity3& T_gt_estimate = Similarity3(),
                                    bool gauge_at_first = false);

@@ -71,7 +71,8 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
 struct Plan;
 
 // Bar-Shalom's test over the trials of sequence s and method m (plan.runs[k] is runs[k]): their
-// finished runs that scored their covariances (nees.csv); nothing with fewer than 2.
+// finished runs on a rendered trial (seed_kind "render") that scored their covariances (nees.csv);
+// nothing with fewer than 2.
 std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
                                                    size_t m);
 

@@ -156,8 +156,11 @@ TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
   }
   double anees_sum = 0;
   int frames = 0;
+  size_t fewest = 3, most = 0;
   for (const auto& [t, v] : per_frame) {
     if (v.size() < 2) continue;
+    fewest = std::min(fewest, v.size());
+    most = std::max(most, v.size());
     double mean = 0;
     for (double x : v) mean += x / v.size();
     anees_sum += mean;
@@ -168,7 +171,9 @@ TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
   std::snprintf(anees_text, sizeof anees_text, "%.2f", anees_sum / frames);
   const size_t nees_table = report.find("## Consistency over the trials (Monte Carlo NEES)");
   ASSERT_NE(nees_table, std::string::npos) << report;
-  const std::string nees_row_start = "| tv1 | monoslam | 3 | " + std::to_string(frames) + " | " + anees_text + " | ";
+  const std::string trials_text = std::to_string(fewest) + (fewest == most ? "" : "-" + std::to_string(most));
+  const std::string nees_row_start =
+      "| tv1 | monoslam | " + trials_text + " | " + std::to_string(frames) + " | " + anees_text + " | ";
   EXPECT_NE(report.find(nees_row_start, nees_table), std::string::npos) << nees_row_start << "\n" << report;
   for (const char* figure : {"ate_boxplot", "sweep_ate_cpu", "tv1_stages", "tv1_anees"}) {
     EXPECT_TRUE(fs::exists(tmp.file(std::string("out/figures/") + figure + ".png"))) << figure;
