@@ -22,7 +22,6 @@ std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<Timed
     }
   }
   MonteCarloNees out;
-  out.dof = dof;
   double sum = 0;
   for (const auto& [microseconds, step] : steps) {
     if (step.trials < 2) continue;

@@ -14,7 +14,6 @@
 namespace slamcmp {
 
 struct MonteCarloNees {
-  int dof = 6;
   // The steps scored by 2 trials or more, in time order.
   std::vector<double> timestamps, anees, lower, upper;
   std::vector<int> trials;

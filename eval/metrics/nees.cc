@@ -61,9 +61,8 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     T_gt_estimate.R = gt.R() * est.R().transpose();
     T_gt_estimate.t = gt.t() - fitted.scale * (T_gt_estimate.R * est.t());
   }
+  NeesResult r;
   double sum = 0;
-  int n = 0;
-  std::vector<TimedNees> per_frame;
   for (size_t k = 0; k < pairs.size(); ++k) {
     if (k == first) continue;
     const SE3& gt = groundtruth[pairs.groundtruth[k]].T_world_camera;
@@ -78,22 +77,19 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     const Eigen::LLT<PoseCovariance> llt(G * est.covariance * G.transpose());
     if (llt.info() != Eigen::Success) continue;
     const double nees = e.dot(llt.solve(e));
-    per_frame.push_back({est.timestamp, nees});
+    r.per_frame.push_back({est.timestamp, nees});
     sum += nees;
-    ++n;
   }
+  const int n = r.frames();
   if (n == 0) return std::nullopt;
-  NeesResult r;
-  r.frames = n;
   r.mean = sum / n;
   r.lower = chiSquareQuantile(0.025, 6.0 * n) / n;
   r.upper = chiSquareQuantile(0.975, 6.0 * n) / n;
-  r.per_frame = std::move(per_frame);
   return r;
 }
 
 nlohmann::json neesToJson(const NeesResult& nees) {
-  return {{"mean", nees.mean}, {"dof", nees.dof}, {"lower", nees.lower}, {"upper", nees.upper}, {"frames", nees.frames}};
+  return {{"mean", nees.mean}, {"dof", nees.dof}, {"lower", nees.lower}, {"upper", nees.upper}, {"frames", nees.frames()}};
 }
 
 void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows) {

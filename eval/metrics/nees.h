@@ -31,8 +31,8 @@ struct NeesResult {
   double mean = 0;
   int dof = 6;
   double lower = 0, upper = 0;  // 95 % bounds of the mean for a consistent filter
-  int frames = 0;               // poses scored
-  std::vector<TimedNees> per_frame;  // in the estimate's order (nees.csv)
+  std::vector<TimedNees> per_frame;  // the poses scored, in the estimate's order (nees.csv)
+  int frames() const { return static_cast<int>(per_frame.size()); }
 };
 
 // Poses associated with the ground truth by timestamp (within max_diff seconds); poses whose

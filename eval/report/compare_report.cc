@@ -296,15 +296,16 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   std::vector<std::string> nees_rows;
   for (size_t s = 0; s < seqs.size(); ++s)
     for (size_t m = 0; m < methods.size(); ++m) {
-      if (const auto mc = trialsMonteCarloNees(plan, runs, s, m)) {
-        const double steps = mc->steps();
-        const auto [fewest, most] = std::minmax_element(mc->trials.begin(), mc->trials.end());
-        nees_rows.push_back("| " + seqs[s].name + " | " + methods[m].label() + " | " + std::to_string(*fewest) +
-                            (*fewest == *most ? "" : "-" + std::to_string(*most)) + " | " +
-                            std::to_string(mc->steps()) + " | " + fmt(mc->mean, 2) + " | " + fmt(100 * mc->inside / steps, 0) +
-                            " | " + fmt(100 * mc->above / steps, 0) + " | " + fmt(100 * mc->below / steps, 0) + " | " +
-                            cellText(cellRuns(plan, runs, s, m), "nees_mean", 1, 2) + " |\n");
-      }
+      const auto mc = trialsMonteCarloNees(plan, runs, s, m);
+      if (!mc) continue;
+      const auto [fewest, most] = std::minmax_element(mc->trials.begin(), mc->trials.end());
+      const auto percent = [&](int frames) { return fmt(100.0 * frames / mc->steps(), 0); };
+      std::ostringstream row;
+      row << "| " << seqs[s].name << " | " << methods[m].label() << " | " << *fewest
+          << (*fewest == *most ? "" : "-" + std::to_string(*most)) << " | " << mc->steps() << " | " << fmt(mc->mean, 2)
+          << " | " << percent(mc->inside) << " | " << percent(mc->above) << " | " << percent(mc->below) << " | "
+          << cellText(cellRuns(plan, runs, s, m), "nees_mean", 1, 2) << " |\n";
+      nees_rows.push_back(row.str());
     }
   if (!nees_rows.empty()) {
     md << "\n## Consistency over the trials (Monte Carlo NEES)\n\n"
@@ -312,8 +313,9 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
           "interval of chi-square with 6M dof over M for M trials (Bar-Shalom, Li and Kirubarajan 2001, 5.4.2): a "
           "consistent filter's ANEES is inside on about 95 % of the frames, above where it is overconfident, below "
           "where it is underconfident. Only trials rendered again (independent noise) are counted; a real sequence "
-          "rerun with other seeds of the back-end has its images' noise in every trial. The last column is each run's own average (summary.json's `nees`, mean ± std "
-          "over the trials), whose chi-square bounds assume frames independent, which a filter's errors are not.\n\n"
+          "rerun with other seeds of the back-end has its images' noise in every trial. The last column is each "
+          "run's own average (summary.json's `nees`, mean ± std over the trials), whose chi-square bounds assume "
+          "frames independent, which a filter's errors are not.\n\n"
        << "| video | method | trials a frame | frames | ANEES mean | inside [%] | above [%] | below [%] | "
           "run NEES mean |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const std::string& row : nees_rows) md << row;

@@ -113,8 +113,8 @@ TEST(FilterConsistency, NeesOfAnExactModelSimulationAveragesTheDof) {
     }
     const auto nees = poseNees(truths, estimates, 0.01);
     ASSERT_TRUE(nees);
-    nees_sum += nees->mean * nees->frames;
-    frames += nees->frames;
+    nees_sum += nees->mean * nees->frames();
+    frames += nees->frames();
   }
   const double mean = nees_sum / frames;
   EXPECT_GT(mean, 5.0);

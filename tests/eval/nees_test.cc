@@ -50,7 +50,7 @@ TEST(Nees, Sim3AlignmentAppliesToPosesAndCovariances) {
   const auto aligned = poseNees(groundtruth, in_own_frame, 0.01, T_gt_estimate);
   const auto unaligned = poseNees(groundtruth, in_own_frame, 0.01);
   ASSERT_TRUE(expected && aligned && unaligned);
-  EXPECT_EQ(aligned->frames, 20);
+  EXPECT_EQ(aligned->frames(), 20);
   EXPECT_NEAR(aligned->mean, expected->mean, 1e-9 * expected->mean);
   EXPECT_GT(unaligned->mean, 100 * expected->mean);  // without the alignment the score is meaningless
 }
@@ -82,7 +82,7 @@ TEST(Nees, ErrorsDrawnFromTheCovarianceAverageTheDof) {
   }
   const auto nees = poseNees(groundtruth, estimate, 0.01);
   ASSERT_TRUE(nees);
-  EXPECT_EQ(nees->frames, 1000);
+  EXPECT_EQ(nees->frames(), 1000);
   EXPECT_GT(nees->mean, nees->lower);
   EXPECT_LT(nees->mean, nees->upper);
 }
@@ -126,7 +126,7 @@ TEST(Nees, BoardFreeRunScoredInItsGaugeAtTheFirstCamera) {
   const auto in_gauge = poseNees(groundtruth, estimate, 0.01, fitted, true);
   const auto fit = poseNees(groundtruth, estimate, 0.01, fitted);
   ASSERT_TRUE(in_gauge && fit);
-  EXPECT_EQ(in_gauge->frames, 299);  // the first camera has no uncertainty to score
+  EXPECT_EQ(in_gauge->frames(), 299);  // the first camera has no uncertainty to score
   EXPECT_GT(in_gauge->mean, in_gauge->lower);
   EXPECT_LT(in_gauge->mean, in_gauge->upper);
   EXPECT_GT(fit->mean, 10 * fit->upper);
