@@ -41,6 +41,11 @@ void addCompareCommand(CLI::App& app) {
   cmd->add_option("--set", options->sets,
                   "sweep one option: SECTION.KEY=V1,V2,... (the YAML's path, e.g. cslam.features.max_features=50,100,200); "
                   "several make a grid of one back-end's values (repeatable)");
+  cmd->add_option("--config", options->configs,
+                  "an option file as `run --config` reads it (one section per back-end): each back-end with a "
+                  "section in it runs with it, labelled config=NAME; `defaults` runs them with their defaults too "
+                  "(repeatable; a back-end no file has a section for runs with its defaults; --set sweeps apply to each)")
+      ->check(nonEmptyPath());
   auto* plan = cmd->add_option("--plan", *plan_dir,
                                "write DIR/plan.json, DIR/jobs.txt (one `slamcmp run` a line: `parallel < jobs.txt`) "
                                "and DIR/slurm.sbatch (`sbatch DIR/slurm.sbatch`) instead of running")

@@ -28,6 +28,9 @@ struct CompareOptions {
   int max_frames = -1;  // per run; < 0: all
   int trials = 1;       // > 1: trial k re-renders a synthetic sequence with seed k, or runs a real one with --seed k
   std::vector<std::string> sets;  // "SECTION.KEY=V1,V2,...": a sweep; several make a grid per back-end
+  // Option files (`run --config`'s): a back-end runs with each that has its section, and with its
+  // defaults when "defaults" is among them or none has its section; the sweeps apply to each.
+  std::vector<std::string> configs;
   std::string slamcmp;  // the binary the runs execute; "" = this process's own (tests give slamcmp's)
 };
 

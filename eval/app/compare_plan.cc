@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/yaml.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/backends.h"
 #include "eval/app/run_sequence.h"
@@ -92,6 +93,55 @@ std::string settingLabel(const std::vector<std::string>& sets) {
   return label;
 }
 
+// One --config: an option file (as `run --config` reads it) and the back-ends it has a section for;
+// or the back-ends' defaults.
+struct OptionFile {
+  std::string path;   // absolute; "" = the defaults
+  std::string name;   // the file's stem, which labels its methods; "" for the defaults
+  std::vector<std::string> backends;
+};
+
+constexpr const char* kDefaultsConfig = "defaults";
+
+// --config FILE ... checked: files that open, sections that name back-ends, each file useful to one
+// of the methods, no file (or stem, the label) twice.
+std::vector<OptionFile> parseOptionFiles(const std::vector<std::string>& given, const std::vector<Method>& methods) {
+  std::vector<OptionFile> files;
+  for (const std::string& text : given) {
+    OptionFile file;
+    if (text != kDefaultsConfig) {
+      const YamlFile yaml(text);
+      file.path = fs::absolute(text).lexically_normal().string();
+      file.name = fs::path(text).stem().string();
+      if (yaml.root().isMap())
+        for (const std::string& section : yaml.root().keys())
+          file.backends.push_back(findBackend(section, text + ": " + section).name);
+      if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
+            return std::find(file.backends.begin(), file.backends.end(), m.backend) != file.backends.end();
+          }))
+        throw InputError("--config " + text, "has no section for a back-end among --backends");
+    }
+    for (const OptionFile& other : files)
+      if (other.path == file.path || other.name == file.name)
+        throw InputError("--config " + text, other.path == file.path ? "is given twice" : "has the name of another --config");
+    files.push_back(std::move(file));
+  }
+  return files;
+}
+
+// The option files a method runs with: those with its back-end's section; and its defaults too when
+// `defaults` is among them, or when none has its section.
+std::vector<OptionFile> optionFilesOf(const Method& method, const std::vector<OptionFile>& files) {
+  std::vector<OptionFile> own;
+  bool defaults = false;
+  for (const OptionFile& file : files) {
+    if (file.path.empty()) defaults = true;
+    if (std::find(file.backends.begin(), file.backends.end(), method.backend) != file.backends.end()) own.push_back(file);
+  }
+  if (defaults || own.empty()) own.insert(own.begin(), OptionFile{});
+  return own;
+}
+
 }  // namespace
 
 Plan makePlan(const CompareOptions& options) {
@@ -117,16 +167,27 @@ Plan makePlan(const CompareOptions& options) {
     plan.sequence_names.push_back(info.name);
     infos.push_back(std::move(info));
   }
+  const std::vector<OptionFile> files = parseOptionFiles(options.configs, options.methods);
+  for (const OptionFile& file : files)
+    if (!file.path.empty()) plan.configs.push_back(file.path);
   std::vector<std::vector<std::string>> method_sets;  // each method's --set arguments
+  std::vector<std::string> method_configs;            // and its option file
   for (const Method& method : options.methods) {
     const auto settings = settingsOf(method, sweeps);
-    for (size_t k = 0; k < settings.size(); ++k) {
+    const auto own_files = optionFilesOf(method, files);
+    const size_t n = own_files.size() * settings.size();
+    for (size_t k = 0; k < n; ++k) {
+      const OptionFile& file = own_files[k / settings.size()];
+      const std::vector<std::string>& sets = settings[k % settings.size()];
+      loadBackendOptions(findBackend(method.backend), file.path, sets);  // the file with the sweep's values
       Method m = method;
-      m.setting = settingLabel(settings[k]);
+      m.config = file.name;
+      m.setting = settingLabel(sets);
       // Shades from darker to lighter keep every setting of one back-end near its colour.
-      if (settings.size() > 1) m.colour = shadeColour(method.colour, -0.45 + 0.9 * k / (settings.size() - 1));
+      if (n > 1) m.colour = shadeColour(method.colour, -0.45 + 0.9 * k / (n - 1));
       plan.methods.push_back(m);
-      method_sets.push_back(settings[k]);
+      method_sets.push_back(sets);
+      method_configs.push_back(file.path);
     }
   }
   plan.trials = options.trials;
@@ -169,6 +230,7 @@ Plan makePlan(const CompareOptions& options) {
         run.dir = "runs/" + name;
         run.log = "logs/" + name + ".log";
         run.sets = method_sets[m];
+        run.config = method_configs[m];
         const Method& method = plan.methods[m];
         run.argv = {slamcmp, "run", "--backend", method.backend};
         if (!method.mode.empty()) run.argv.insert(run.argv.end(), {"--mode", method.mode});
@@ -176,6 +238,7 @@ Plan makePlan(const CompareOptions& options) {
         run.argv.insert(run.argv.end(), {"--sequence", sequence_path, "--out", (dir / run.dir).string()});
         if (options.max_frames > 0) run.argv.insert(run.argv.end(), {"--max-frames", std::to_string(options.max_frames)});
         if (seed_kind == "backend") run.argv.insert(run.argv.end(), {"--seed", std::to_string(trial)});
+        if (!run.config.empty()) run.argv.insert(run.argv.end(), {"--config", run.config});
         for (const std::string& set : run.sets) run.argv.insert(run.argv.end(), {"--set", set});
         fs::remove_all(dir / run.dir, ec);  // a previous plan's outputs are not this run's
         fs::remove(dir / run.log, ec);

@@ -135,6 +135,11 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
     for (const std::string& key : plan.swept_keys) md << " `" << key << "`";
     md << " (every combination of one back-end's values).";
   }
+  if (!plan.configs.empty()) {
+    md << " Option files (`run --config`):";
+    for (const std::string& config : plan.configs) md << " `" << config << "`";
+    md << "; a method labelled `config=NAME` ran with the file NAME.yaml.";
+  }
   md << " Every number of every run is in results.csv.\n\n";
 
   writeResultsCsv(plan, runs, out_dir + "/results.csv");
@@ -267,7 +272,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
     md << "\n";
     for (size_t m = 0; m < methods.size(); ++m) {
       if (methods[m].setting.empty()) continue;
-      md << "| " << methods[m].base() << " | " << methods[m].setting << " |";
+      md << "| " << methods[m].configured() << " | " << methods[m].setting << " |";
       for (size_t s = 0; s < seqs.size(); ++s) {
         const auto cell = cellRuns(plan, runs, s, m);
         md << " " << cellText(cell, "ate_trans_rmse_m", 1e3, 2) << " | " << cellText(cell, "cpu_ms_median", 1, 2) << " |";

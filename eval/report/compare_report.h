@@ -30,8 +30,11 @@ struct Method {
   std::string thesis_method;       // the thesis's Table 3.2 column it stands beside ("" = none)
   std::string setting;             // "" or the swept options' values: "features.max_features=50 ..."
   std::string init;                // "" = the back-end's default start (the board), or run's --init: "none", ...
+  std::string config;              // "" = the back-end's defaults, or the name of compare's --config file
   std::string base() const { return (mode.empty() ? backend : backend + ":" + mode) + (init.empty() ? "" : "@" + init); }
-  std::string label() const { return setting.empty() ? base() : base() + " " + setting; }
+  // The back-end with its option file: what a sweep varies the setting of.
+  std::string configured() const { return config.empty() ? base() : base() + " config=" + config; }
+  std::string label() const { return setting.empty() ? configured() : configured() + " " + setting; }
   std::string slug() const;        // a folder name: "cslam-calibration", "cslam-features.max_features=50"
 };
 

@@ -10,6 +10,7 @@ namespace slamcmp {
 std::string Method::slug() const {
   std::string s = mode.empty() ? backend : backend + "-" + mode;
   if (!init.empty()) s += "-init-" + init;
+  if (!config.empty()) s += "-config=" + config;
   if (!setting.empty()) s += "-" + setting;
   for (char& c : s)
     if (c == ' ' || c == '/' || c == ':') c = '_';  // a folder name
@@ -39,12 +40,13 @@ nlohmann::json planToJson(const Plan& plan) {
                        {"colour", m.colour},
                        {"thesis_method", m.thesis_method},
                        {"setting", m.setting},
+                       {"config", m.config},
                        {"init", m.init}});
   for (const PlannedRun& r : plan.runs) {
     nlohmann::json j = {{"sequence", r.sequence}, {"method", r.method},  {"trial", r.trial},
                         {"seed_kind", r.seed_kind}, {"sequence_path", r.sequence_path},
                         {"dir", r.dir},           {"log", r.log},       {"sets", r.sets},
-                        {"argv", r.argv}};
+                        {"config", r.config},     {"argv", r.argv}};
     j["seed"] = r.seed ? nlohmann::json(*r.seed) : nlohmann::json();
     runs.push_back(j);
   }
@@ -53,6 +55,7 @@ nlohmann::json planToJson(const Plan& plan) {
           {"sequence_names", plan.sequence_names},
           {"methods", methods},
           {"swept_keys", plan.swept_keys},
+          {"configs", plan.configs},
           {"trials", plan.trials},
           {"max_frames", plan.max_frames},
           {"runs", runs}};
@@ -71,10 +74,12 @@ Plan planFromJson(const nlohmann::json& j, const std::string& where) {
       method.colour = m.at("colour").get<std::string>();
       method.thesis_method = m.at("thesis_method").get<std::string>();
       method.setting = m.at("setting").get<std::string>();
+      method.config = m.value("config", "");  // plans written before --config
       method.init = m.value("init", "");
       plan.methods.push_back(method);
     }
     plan.swept_keys = j.at("swept_keys").get<std::vector<std::string>>();
+    plan.configs = j.value("configs", std::vector<std::string>{});  // plans written before --config
     plan.trials = j.at("trials").get<int>();
     plan.max_frames = j.at("max_frames").get<int>();
     for (const auto& r : j.at("runs")) {
@@ -88,6 +93,7 @@ Plan planFromJson(const nlohmann::json& j, const std::string& where) {
       run.dir = r.at("dir").get<std::string>();
       run.log = r.at("log").get<std::string>();
       run.sets = r.at("sets").get<std::vector<std::string>>();
+      run.config = r.value("config", "");
       run.argv = r.at("argv").get<std::vector<std::string>>();
       if (run.sequence >= plan.sequences.size() || run.method >= plan.methods.size())
         throw InputError(where, "runs: a run names a sequence or method the plan does not list");

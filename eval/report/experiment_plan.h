@@ -21,6 +21,7 @@ struct PlannedRun {
   std::string dir;            // the run's output folder, relative to the plan's folder
   std::string log;            // its stdout and stderr, relative to the plan's folder
   std::vector<std::string> sets;   // --set KEY=VALUE of its setting
+  std::string config;              // its --config file (absolute), "" for the back-end's defaults
   std::vector<std::string> argv;   // the whole `slamcmp run` command (absolute paths)
 };
 
@@ -29,6 +30,7 @@ struct Plan {
   std::vector<std::string> sequence_names;  // their names, as the tables show them
   std::vector<Method> methods;              // every back-end, mode and setting, in table order
   std::vector<std::string> swept_keys;      // the --set keys, in order ("cslam.features.max_features")
+  std::vector<std::string> configs;         // the --config files (absolute), in order
   int trials = 1;
   int max_frames = -1;                      // per run; < 0: all
   std::vector<PlannedRun> runs;             // sequence-major, then method, then trial

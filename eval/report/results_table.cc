@@ -74,6 +74,7 @@ std::string exactNumber(double v) {
 void writeResultsCsv(const Plan& plan, const std::vector<RunResult>& runs, const std::string& path) {
   std::ofstream out(path);
   out << "sequence,method,trial,seed_kind,seed";
+  if (!plan.configs.empty()) out << ",config";
   for (const std::string& key : plan.swept_keys) out << "," << csvText(key);
   out << ",status,first_lost_frame,align";
   for (const RunColumn& c : runColumns()) out << "," << c.name;
@@ -83,6 +84,7 @@ void writeResultsCsv(const Plan& plan, const std::vector<RunResult>& runs, const
     const RunResult& r = runs[k];
     out << csvText(plan.sequence_names[p.sequence]) << "," << csvText(plan.methods[p.method].base()) << "," << p.trial
         << "," << p.seed_kind << "," << (p.seed ? std::to_string(*p.seed) : "");
+    if (!plan.configs.empty()) out << "," << csvText(p.config);
     for (const std::string& key : plan.swept_keys) out << "," << csvText(sweptValue(p, key));
     const nlohmann::json* first_lost = r.summary.is_object() && r.summary.contains("first_lost_frame")
                                            ? &r.summary["first_lost_frame"]

@@ -639,6 +639,23 @@ std::vector<BadCase> cases() {
          return Invocation{"compare --sequence " + tmp.file("seq") + " --out " + tmp.file("c") + " --max-frames 0",
                            {"--max-frames 0: nothing to run"}};
        }},
+      // compare --config: the option file's misspelt section and a value its back-end refuses.
+      {"CompareConfigValueRefused",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         writeText(tmp.file("h.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n");
+         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends hybrid --config " + tmp.file("h.yaml") +
+                               " --out " + tmp.file("c"),
+                           {tmp.file("h.yaml"), "hybrid.corners.pixel_sigma: must be positive"}};
+       }},
+      {"CompareConfigNoSectionForTheBackEnds",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         writeText(tmp.file("h.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.1\n");
+         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends cslam --config " + tmp.file("h.yaml") +
+                               " --out " + tmp.file("c"),
+                           {"--config " + tmp.file("h.yaml"), "no section for a back-end among --backends"}};
+       }},
       // Issue 11: a byte-order mark before rgb.txt's first line is skipped: the list is read (this
       // tiny sequence then ends without the board), and a bad first timestamp is named without it.
       runCase("RgbByteOrderMarkSkipped",

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "datasets/synth_sequence.h"
@@ -207,6 +208,89 @@ TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
     EXPECT_NE(std::string(e.what()).find("cslam.features.max_features"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("many"), std::string::npos) << e.what();
   }
+}
+
+// Option files (--config) are settings of the back-ends they have a section for: hybrid runs with
+// its defaults (`defaults`) and with the file, labelled by its name, each run with exactly its
+// options (summary.json), a sweep applies to each; cslam, which the file does not name, runs once.
+// A file that cannot serve, or a value it sets that the back-end refuses, stops the compare before
+// anything runs, naming the file and the field.
+TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  const std::string file = tmp.file("precise.yaml");
+  test::writeText(file, "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.05\n");
+  CompareOptions options = shortCompare(seq, "cslam,hybrid", tmp.file("out"));
+  options.configs = {"defaults", file};
+  runCompare(options);
+  const auto rows = readResults(tmp.file("out/results.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  std::map<std::string, std::string> config_of;  // run folder -> config column
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "ok") << row.at("run") << ": " << row.at("error");
+    config_of[row.at("run")] = row.at("config");
+  }
+  ASSERT_EQ(config_of.count("runs/tv1-cslam"), 1u);
+  ASSERT_EQ(config_of.count("runs/tv1-hybrid"), 1u);
+  ASSERT_EQ(config_of.count("runs/tv1-hybrid-config=precise"), 1u);
+  EXPECT_EQ(config_of["runs/tv1-cslam"], "");
+  EXPECT_EQ(config_of["runs/tv1-hybrid"], "");
+  EXPECT_EQ(config_of["runs/tv1-hybrid-config=precise"], fs::absolute(file).lexically_normal().string());
+  const auto pixel_sigma = [&](const std::string& run) {
+    const nlohmann::json summary = nlohmann::json::parse(readFile(tmp.file("out/" + run + "/summary.json")));
+    return summary.at("options").at("corners").at("pixel_sigma").get<double>();
+  };
+  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid-config=precise"), 0.05);
+  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid"), 0.2);
+  const std::string report = readFile(tmp.file("out/report.md"));
+  EXPECT_NE(report.find("`hybrid config=precise`"), std::string::npos) << report;
+  EXPECT_NE(report.find("Option files (`run --config`): `" + fs::absolute(file).lexically_normal().string() + "`"),
+            std::string::npos);
+
+  // Without `defaults` the file replaces them; a sweep applies on top of it.
+  CompareOptions swept = shortCompare(seq, "cslam,hybrid", tmp.file("plan"));
+  swept.configs = {file};
+  swept.sets = {"hybrid.corners.gate=0.999,0.9999"};
+  ASSERT_EQ(planCompare(swept), 3u);
+  const std::vector<std::string> jobs = test::readLines(tmp.file("plan/jobs.txt"));
+  ASSERT_EQ(jobs.size(), 3u);
+  EXPECT_EQ(jobs[0].find("--config"), std::string::npos) << jobs[0];
+  for (int k : {1, 2}) {
+    EXPECT_NE(jobs[k].find("--config " + fs::absolute(file).lexically_normal().string() + " --set hybrid.corners.gate=0.999"),
+              std::string::npos) << jobs[k];
+    EXPECT_NE(jobs[k].find("runs/tv1-hybrid-config=precise-corners.gate=0.999"), std::string::npos) << jobs[k];
+  }
+  // The plan names the file apart from the swept values: a sweep's line is one back-end and file.
+  const nlohmann::json plan = nlohmann::json::parse(readFile(tmp.file("plan/plan.json")));
+  ASSERT_EQ(plan.at("methods").size(), 3u);
+  EXPECT_EQ(plan["methods"][0].value("config", "?"), "");
+  for (int k : {1, 2}) {
+    EXPECT_EQ(plan["methods"][k].value("config", ""), "precise");
+    EXPECT_EQ(plan["methods"][k].value("setting", "").rfind("corners.gate=0.999", 0), 0u) << plan["methods"][k];
+  }
+
+  const auto refused = [&](const std::vector<std::string>& configs, const std::string& methods,
+                           const std::vector<std::string>& expected) {
+    CompareOptions bad = shortCompare(seq, methods, tmp.file("refused"));
+    bad.configs = configs;
+    try {
+      planCompare(bad);
+      ADD_FAILURE() << "accepted " << configs.back();
+    } catch (const InputError& e) {
+      for (const std::string& text : expected) EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(tmp.file("refused/jobs.txt")));
+  };
+  refused({file}, "cslam", {"--config " + file, "no section for a back-end among --backends"});
+  refused({file, file}, "hybrid", {"--config " + file, "given twice"});
+  refused({tmp.file("missing.yaml")}, "hybrid", {tmp.file("missing.yaml")});
+  const std::string negative = tmp.file("negative.yaml");
+  test::writeText(negative, "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n");
+  refused({negative}, "hybrid", {negative, "hybrid.corners.pixel_sigma"});
+  const std::string misspelt = tmp.file("misspelt.yaml");
+  test::writeText(misspelt, "%YAML:1.0\n---\nhybird:\n  corners:\n    pixel_sigma: 0.1\n");
+  refused({misspelt}, "hybrid", {misspelt, "hybird"});
 }
 
 // Bad usage of the plan options: one line naming what is wrong, exit 2, nothing written.
