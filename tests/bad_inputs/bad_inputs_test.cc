@@ -153,6 +153,18 @@ BadCase configCase(const std::string& name, const std::string& text, const std::
           }};
 }
 
+// slamcmp compare of `backends` with --config holding `text`; the line names the file and `what`.
+BadCase compareConfigCase(const std::string& name, const std::string& text, const std::string& backends,
+                          const std::string& what) {
+  return {name, [=](const TempDir& tmp) {
+            writeSequence(tmp.file("seq"));
+            writeText(tmp.file("c.yaml"), text);
+            return Invocation{"compare --sequence " + tmp.file("seq") + " --backends " + backends + " --config " +
+                                  tmp.file("c.yaml") + " --out " + tmp.file("c"),
+                              {tmp.file("c.yaml"), what}};
+          }};
+}
+
 // An option bounded by the tiny sequence's 160x120 images, set too large in a --config.
 BadCase imageBoundCase(const std::string& name, const std::string& backend, const std::string& yaml_path,
                        const std::string& value, const std::string& limit) {
@@ -639,23 +651,12 @@ std::vector<BadCase> cases() {
          return Invocation{"compare --sequence " + tmp.file("seq") + " --out " + tmp.file("c") + " --max-frames 0",
                            {"--max-frames 0: nothing to run"}};
        }},
-      // compare --config: the option file's misspelt section and a value its back-end refuses.
-      {"CompareConfigValueRefused",
-       [](const TempDir& tmp) {
-         writeSequence(tmp.file("seq"));
-         writeText(tmp.file("h.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n");
-         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends hybrid --config " + tmp.file("h.yaml") +
-                               " --out " + tmp.file("c"),
-                           {tmp.file("h.yaml"), "hybrid.corners.pixel_sigma: must be positive"}};
-       }},
-      {"CompareConfigNoSectionForTheBackEnds",
-       [](const TempDir& tmp) {
-         writeSequence(tmp.file("seq"));
-         writeText(tmp.file("h.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.1\n");
-         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends cslam --config " + tmp.file("h.yaml") +
-                               " --out " + tmp.file("c"),
-                           {"--config " + tmp.file("h.yaml"), "no section for a back-end among --backends"}};
-       }},
+      // compare --config: a value its back-end refuses; a file for none of the back-ends compared.
+      compareConfigCase("CompareConfigValueRefused", "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",
+                        "hybrid", "hybrid.corners.pixel_sigma: must be positive"),
+      compareConfigCase("CompareConfigNoSectionForTheBackEnds",
+                        "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.1\n", "cslam",
+                        "no section for a back-end among --backends"),
       // Issue 11: a byte-order mark before rgb.txt's first line is skipped: the list is read (this
       // tiny sequence then ends without the board), and a bad first timestamp is named without it.
       runCase("RgbByteOrderMarkSkipped",
