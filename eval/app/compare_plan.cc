@@ -44,8 +44,57 @@ struct Sweep {
   std::vector<std::string> values;  // "50", "100", "200"
 };
 
-// "SECTION.KEY=V1,V2,..." checked: a back-end among the methods, an option it has, values it takes.
-Sweep parseSweep(const std::string& text, const std::vector<Method>& methods) {
+// One --config: an option file (as `run --config` reads it) and the back-ends it has a section for;
+// or the back-ends' defaults.
+struct OptionFile {
+  std::string path;   // absolute; "" = the defaults
+  std::string name;   // the file's stem, which labels its methods; "" for the defaults
+  std::vector<std::string> backends;
+};
+
+constexpr const char* kDefaultsConfig = "defaults";
+
+// --config FILE ... checked: files that open, sections that name back-ends, each file useful to one
+// of the methods, no file twice (the values a file sets are checked with the sweeps', in makePlan).
+std::vector<OptionFile> parseOptionFiles(const std::vector<std::string>& given, const std::vector<Method>& methods) {
+  std::vector<OptionFile> files;
+  for (const std::string& text : given) {
+    OptionFile file;
+    if (text != kDefaultsConfig) {
+      const YamlFile yaml(text);
+      file.path = fs::canonical(text).string();  // the file YamlFile opened, through any link
+      file.name = fs::path(text).stem().string();
+      if (yaml.root().isMap())
+        for (const std::string& section : yaml.root().keys())
+          file.backends.push_back(findBackend(section, text + ": " + section).name);
+      if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
+            return std::find(file.backends.begin(), file.backends.end(), m.backend) != file.backends.end();
+          }))
+        throw InputError("--config " + text, "has no section for a back-end among --backends");
+    }
+    for (const OptionFile& other : files)
+      if (other.path == file.path) throw InputError("--config " + text, "is given twice");
+    files.push_back(std::move(file));
+  }
+  return files;
+}
+
+// The option files a back-end runs with: those with its section; and its defaults too when
+// `defaults` is among them, or when none has its section.
+std::vector<OptionFile> optionFilesOf(const std::string& backend, const std::vector<OptionFile>& files) {
+  std::vector<OptionFile> own;
+  bool defaults = false;
+  for (const OptionFile& file : files) {
+    if (file.path.empty()) defaults = true;
+    if (std::find(file.backends.begin(), file.backends.end(), backend) != file.backends.end()) own.push_back(file);
+  }
+  if (defaults || own.empty()) own.insert(own.begin(), OptionFile{});
+  return own;
+}
+
+// "SECTION.KEY=V1,V2,..." checked: a back-end among the methods, an option it has, values it takes
+// on top of each of its option files.
+Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, const std::vector<OptionFile>& files) {
   const std::string where = "--set " + text;
   const auto eq = text.find('=');
   const auto dot = text.find('.');
@@ -60,10 +109,12 @@ Sweep parseSweep(const std::string& text, const std::vector<Method>& methods) {
     if (v.empty()) throw InputError(where, "has an empty value");
     if (std::find(sweep.values.begin(), sweep.values.end(), v) != sweep.values.end())
       throw InputError(where, "lists '" + v + "' twice");
-    try {  // the option exists and takes the value, with the back-end's other defaults
-      loadBackendOptions(backend, "", {sweep.key + "=" + v});
-    } catch (const InputError& e) {
-      throw InputError(where, "value " + v + ": " + e.what());
+    for (const OptionFile& file : optionFilesOf(backend.name, files)) {
+      try {  // the option exists and takes the value, with the file's (or the defaults') other options
+        loadBackendOptions(backend, file.path, {sweep.key + "=" + v});
+      } catch (const InputError& e) {
+        throw InputError(where, "value " + v + (file.path.empty() ? "" : " with --config " + file.path) + ": " + e.what());
+      }
     }
     sweep.values.push_back(v);
   }
@@ -93,55 +144,6 @@ std::string settingLabel(const std::vector<std::string>& sets) {
   return label;
 }
 
-// One --config: an option file (as `run --config` reads it) and the back-ends it has a section for;
-// or the back-ends' defaults.
-struct OptionFile {
-  std::string path;   // absolute; "" = the defaults
-  std::string name;   // the file's stem, which labels its methods; "" for the defaults
-  std::vector<std::string> backends;
-};
-
-constexpr const char* kDefaultsConfig = "defaults";
-
-// --config FILE ... checked: files that open, sections that name back-ends, each file useful to one
-// of the methods, no file (or stem, the label) twice.
-std::vector<OptionFile> parseOptionFiles(const std::vector<std::string>& given, const std::vector<Method>& methods) {
-  std::vector<OptionFile> files;
-  for (const std::string& text : given) {
-    OptionFile file;
-    if (text != kDefaultsConfig) {
-      const YamlFile yaml(text);
-      file.path = fs::absolute(text).lexically_normal().string();
-      file.name = fs::path(text).stem().string();
-      if (yaml.root().isMap())
-        for (const std::string& section : yaml.root().keys())
-          file.backends.push_back(findBackend(section, text + ": " + section).name);
-      if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
-            return std::find(file.backends.begin(), file.backends.end(), m.backend) != file.backends.end();
-          }))
-        throw InputError("--config " + text, "has no section for a back-end among --backends");
-    }
-    for (const OptionFile& other : files)
-      if (other.path == file.path || other.name == file.name)
-        throw InputError("--config " + text, other.path == file.path ? "is given twice" : "has the name of another --config");
-    files.push_back(std::move(file));
-  }
-  return files;
-}
-
-// The option files a method runs with: those with its back-end's section; and its defaults too when
-// `defaults` is among them, or when none has its section.
-std::vector<OptionFile> optionFilesOf(const Method& method, const std::vector<OptionFile>& files) {
-  std::vector<OptionFile> own;
-  bool defaults = false;
-  for (const OptionFile& file : files) {
-    if (file.path.empty()) defaults = true;
-    if (std::find(file.backends.begin(), file.backends.end(), method.backend) != file.backends.end()) own.push_back(file);
-  }
-  if (defaults || own.empty()) own.insert(own.begin(), OptionFile{});
-  return own;
-}
-
 }  // namespace
 
 Plan makePlan(const CompareOptions& options) {
@@ -149,10 +151,11 @@ Plan makePlan(const CompareOptions& options) {
   if (options.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
   if (options.trials < 1) throw InputError("--trials", "must be at least 1, got " + std::to_string(options.trials));
   if (options.methods.empty()) throw InputError("--backends", "names no back-end");
+  const std::vector<OptionFile> files = parseOptionFiles(options.configs, options.methods);
   std::vector<Sweep> sweeps;
   Plan plan;
   for (const std::string& text : options.sets) {
-    sweeps.push_back(parseSweep(text, options.methods));
+    sweeps.push_back(parseSweep(text, options.methods, files));
     for (const Sweep& other : std::vector<Sweep>(sweeps.begin(), sweeps.end() - 1))
       if (other.key == sweeps.back().key) throw InputError("--set " + text, "sweeps " + other.key + " twice");
     plan.swept_keys.push_back(sweeps.back().key);
@@ -167,19 +170,24 @@ Plan makePlan(const CompareOptions& options) {
     plan.sequence_names.push_back(info.name);
     infos.push_back(std::move(info));
   }
-  const std::vector<OptionFile> files = parseOptionFiles(options.configs, options.methods);
   for (const OptionFile& file : files)
     if (!file.path.empty()) plan.configs.push_back(file.path);
   std::vector<std::vector<std::string>> method_sets;  // each method's --set arguments
   std::vector<std::string> method_configs;            // and its option file
   for (const Method& method : options.methods) {
     const auto settings = settingsOf(method, sweeps);
-    const auto own_files = optionFilesOf(method, files);
+    const auto own_files = optionFilesOf(method.backend, files);
     const size_t n = own_files.size() * settings.size();
     for (size_t k = 0; k < n; ++k) {
       const OptionFile& file = own_files[k / settings.size()];
       const std::vector<std::string>& sets = settings[k % settings.size()];
-      loadBackendOptions(findBackend(method.backend), file.path, sets);  // the file with the sweep's values
+      try {  // the file with the sweeps' values together (each was checked alone)
+        loadBackendOptions(findBackend(method.backend), file.path, sets);
+      } catch (const InputError& e) {
+        std::string where;
+        for (const std::string& set : sets) where += (where.empty() ? "--set " : " --set ") + set;
+        throw InputError(where, e.what());
+      }
       Method m = method;
       m.config = file.name;
       m.setting = settingLabel(sets);
@@ -190,6 +198,12 @@ Plan makePlan(const CompareOptions& options) {
       method_configs.push_back(file.path);
     }
   }
+  for (size_t a = 0; a < plan.methods.size(); ++a)
+    for (size_t b = 0; b < a; ++b)
+      if (plan.methods[a].slug() == plan.methods[b].slug())
+        throw InputError("compare", "`" + plan.methods[b].label() + "` and `" + plan.methods[a].label() +
+                                        "` would write the same run folders (" + plan.methods[a].slug() +
+                                        "): rename an option file or a value");
   plan.trials = options.trials;
   plan.max_frames = options.max_frames;
 

@@ -138,7 +138,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   if (!plan.configs.empty()) {
     md << " Option files (`run --config`):";
     for (const std::string& config : plan.configs) md << " `" << config << "`";
-    md << "; a method labelled `config=NAME` ran with the file NAME.yaml.";
+    md << "; a method labelled `config=NAME` ran with the file of that name.";
   }
   md << " Every number of every run is in results.csv.\n\n";
 

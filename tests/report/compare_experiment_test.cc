@@ -236,7 +236,7 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   ASSERT_EQ(config_of.count("runs/tv1-hybrid-config=precise"), 1u);
   EXPECT_EQ(config_of["runs/tv1-cslam"], "");
   EXPECT_EQ(config_of["runs/tv1-hybrid"], "");
-  EXPECT_EQ(config_of["runs/tv1-hybrid-config=precise"], fs::absolute(file).lexically_normal().string());
+  EXPECT_EQ(config_of["runs/tv1-hybrid-config=precise"], fs::canonical(file).string());
   const auto pixel_sigma = [&](const std::string& run) {
     const nlohmann::json summary = nlohmann::json::parse(readFile(tmp.file("out/" + run + "/summary.json")));
     return summary.at("options").at("corners").at("pixel_sigma").get<double>();
@@ -245,7 +245,7 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   EXPECT_EQ(pixel_sigma("runs/tv1-hybrid"), 0.2);
   const std::string report = readFile(tmp.file("out/report.md"));
   EXPECT_NE(report.find("`hybrid config=precise`"), std::string::npos) << report;
-  EXPECT_NE(report.find("Option files (`run --config`): `" + fs::absolute(file).lexically_normal().string() + "`"),
+  EXPECT_NE(report.find("Option files (`run --config`): `" + fs::canonical(file).string() + "`"),
             std::string::npos);
 
   // Without `defaults` the file replaces them; a sweep applies on top of it.
@@ -257,7 +257,7 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   ASSERT_EQ(jobs.size(), 3u);
   EXPECT_EQ(jobs[0].find("--config"), std::string::npos) << jobs[0];
   for (int k : {1, 2}) {
-    EXPECT_NE(jobs[k].find("--config " + fs::absolute(file).lexically_normal().string() + " --set hybrid.corners.gate=0.999"),
+    EXPECT_NE(jobs[k].find("--config " + fs::canonical(file).string() + " --set hybrid.corners.gate=0.999"),
               std::string::npos) << jobs[k];
     EXPECT_NE(jobs[k].find("runs/tv1-hybrid-config=precise-corners.gate=0.999"), std::string::npos) << jobs[k];
   }
@@ -280,7 +280,7 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
     } catch (const InputError& e) {
       for (const std::string& text : expected) EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
     }
-    EXPECT_FALSE(fs::exists(tmp.file("refused/jobs.txt")));
+    EXPECT_FALSE(fs::exists(tmp.file("refused")));  // refused before any folder is made
   };
   refused({file}, "cslam", {"--config " + file, "no section for a back-end among --backends"});
   refused({file, file}, "hybrid", {"--config " + file, "given twice"});
@@ -288,6 +288,39 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   const std::string negative = tmp.file("negative.yaml");
   test::writeText(negative, "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n");
   refused({negative}, "hybrid", {negative, "hybrid.corners.pixel_sigma"});
+  // The same file through a link; two names that make the same folder name.
+  fs::create_symlink(file, tmp.file("link.yaml"));
+  refused({file, tmp.file("link.yaml")}, "hybrid", {"--config " + tmp.file("link.yaml"), "given twice"});
+  test::writeText(tmp.file("a b.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    gate: 0.999\n");
+  test::writeText(tmp.file("a_b.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    gate: 0.99\n");
+  refused({tmp.file("a b.yaml"), tmp.file("a_b.yaml")}, "hybrid", {"would write the same run folders"});
+  // A sweep is checked on top of each file it applies to: min_track_length may reach the file's
+  // window (4), beyond the defaults' (2); a value the file's options refuse names the file.
+  const std::string window = tmp.file("window.yaml");
+  test::writeText(window, "%YAML:1.0\n---\nhybrid:\n  tracked_motion:\n    window: 4\n");
+  CompareOptions long_tracks = shortCompare(seq, "hybrid", tmp.file("long"));
+  long_tracks.configs = {window};
+  long_tracks.sets = {"hybrid.tracked_motion.min_track_length=3,4"};
+  EXPECT_EQ(planCompare(long_tracks), 2u);
+  long_tracks.configs = {"defaults", window};
+  long_tracks.out_dir = tmp.file("refused");
+  try {
+    planCompare(long_tracks);
+    ADD_FAILURE() << "min_track_length 3 beyond the defaults' window";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set hybrid.tracked_motion.min_track_length=3,4: value 3: "), std::string::npos)
+        << e.what();
+  }
+  long_tracks.configs = {window};
+  long_tracks.sets = {"hybrid.tracked_motion.min_track_length=3,5"};
+  try {
+    planCompare(long_tracks);
+    ADD_FAILURE() << "min_track_length 5 beyond the file's window";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("value 5 with --config " + fs::canonical(window).string()), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(tmp.file("refused")));
   const std::string misspelt = tmp.file("misspelt.yaml");
   test::writeText(misspelt, "%YAML:1.0\n---\nhybird:\n  corners:\n    pixel_sigma: 0.1\n");
   refused({misspelt}, "hybrid", {misspelt, "hybird"});
