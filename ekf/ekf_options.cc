@@ -122,6 +122,7 @@ void InverseDepthOptions::check() const {
   requireUse(use);
   require(rho0 > 0, "rho0", "must be positive");
   require(rho_sigma > 0, "rho_sigma", "must be positive");
+  require(scale_gauge_sigma >= 0, "scale_gauge_sigma", "must be >= 0");
   require(linearity_threshold > 0, "linearity_threshold", "must be positive");
   require(new_per_frame >= 1, "new_per_frame", "must be at least 1");
 }

@@ -224,6 +224,13 @@ struct InverseDepthOptions {
   double rho_sigma = 0.5;              // 1/units, its std (rho0 +- 2 sigma reaches infinity)
   double linearity_threshold = 0.1;    // convert to a 3D point when L_d (Civera 2008 eq. 15) falls below it
   int new_per_frame = 6;               // features started a frame at most (the first frame: min_visible)
+  // The scale of a board-free map: the mean inverse depth of the first frame's features is rho0
+  // to within this std, 1/units. With each feature's rho_sigma alone (0) the scale wandered while
+  // the map was young: tv4 (backing away) went from 0.43 to 0.195 m a unit in its first 30 frames.
+  // Full presets without a board, Sim(3) ATE 0 -> 0.001: tv1..tv4 1.25 / 2.04 / 1.78 / 13.8 ->
+  // 1.00 / 1.07 / 1.09 / 8.2 mm, wall_turn s1-s3 1.06 / 2.02 / 18.1 -> 0.87 / 1.54 / 2.45,
+  // board_leaves s1-s2 1.51 / 3.84 -> 1.02 / 1.97, roll_distortion 0.87 both; 0.0003-0.01 alike.
+  double scale_gauge_sigma = 0.001;
   template <class V>
   void visit(V& v) {
     v("use", use, "auto (on with --init none) | on | off: features in inverse depth instead of depth particles");
@@ -231,6 +238,9 @@ struct InverseDepthOptions {
     v("rho_sigma", rho_sigma, "1/units, std of the initial inverse depth");
     v("linearity_threshold", linearity_threshold, "convert to a 3D point when the linearity index is below this");
     v("new_per_frame", new_per_frame, "features started a frame at most");
+    v("scale_gauge_sigma", scale_gauge_sigma,
+      "1/units, board-free start: the mean inverse depth of the first frame's features is rho0 to within this std "
+      "(the map's scale); 0: each feature's rho_sigma alone");
   }
   void check() const;
 };

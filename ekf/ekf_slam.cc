@@ -33,6 +33,7 @@ EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool 
     : camera_(camera),
       options_(options),
       inverse_depth_(usesOption(options.inverse_depth.use, board_free)),
+      board_free_(board_free),
       ransac_(usesOption(options.ransac.use, board_free)) {
   if (relocalisation && relocalisation->enabled) relocaliser_ = std::make_unique<Relocaliser>(*relocalisation);
 }
@@ -41,6 +42,16 @@ void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 1
   state_.reset(T_world_camera, P_camera);
   motion_noise_.restart();
   features_.clear();
+  scale_gauge_pending_ = board_free_ && inverse_depth_ && options_.inverse_depth.scale_gauge_sigma > 0;
+}
+
+void EkfSlam::fixScaleGauge() {
+  std::vector<int> offsets;
+  for (const MapFeature& f : features_)
+    if (f.inverse_depth) offsets.push_back(f.offset);
+  scale_gauge_pending_ = offsets.empty();
+  const InverseDepthOptions& io = options_.inverse_depth;
+  constrainMeanInverseDepth(state_, offsets, io.rho0, io.scale_gauge_sigma);
 }
 
 bool EkfSlam::addKnownPoint(const cv::Mat& grey, const Vec2& uv, const Vec3& p_world, const Vec3& normal_world) {
@@ -146,7 +157,8 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<V
       occupied.push_back(m.uv_distorted);
   }
   for (int k = 0; k < wanted && static_cast<int>(features_.size()) < mo.max_features; ++k)
-    if (!addFeature(grey, occupied)) return;
+    if (!addFeature(grey, occupied)) break;
+  if (scale_gauge_pending_) fixScaleGauge();
 }
 
 bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {

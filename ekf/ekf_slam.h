@@ -110,6 +110,8 @@ class EkfSlam {
 
  private:
   void removeFeature(size_t index);
+  // Board-free: the first frame's features fix the map's scale (inverse_depth.scale_gauge_sigma).
+  void fixScaleGauge();
   void updateRays(const cv::Mat& grey);
   void convertLinearFeatures();
   // A new feature at the strongest corner of a free box (a ray, or in inverse depth); false if none.
@@ -119,6 +121,8 @@ class EkfSlam {
   CameraModel camera_;
   EkfSlamOptions options_;
   bool inverse_depth_ = false;  // new features in inverse depth, not depth particles
+  bool board_free_ = false;
+  bool scale_gauge_pending_ = false;  // board-free: the first features' mean inverse depth not yet fixed
   bool ransac_ = false;         // 1-point RANSAC instead of joint compatibility
   EkfState state_;
   AdaptiveMotionNoise motion_noise_{options_.motion};

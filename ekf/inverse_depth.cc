@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ekf/ekf_update.h"
+
 namespace slamcmp {
 
 namespace {
@@ -93,6 +95,23 @@ Vec3 inverseDepthToPoint(const Vec6& y, Eigen::Matrix<double, 3, 6>* J) {
   const double rho = y(5);
   *J << Mat3::Identity(), J_m / rho, -m / (rho * rho);
   return y.head<3>() + m / rho;
+}
+
+bool constrainMeanInverseDepth(EkfState& state, const std::vector<int>& offsets, double rho0, double sigma) {
+  if (offsets.empty()) return false;
+  // h = mean(rho_i): H has 1/n at each rho (the 6th of a feature's values), so P H^T is the mean of
+  // P's rho columns and H P H^T the mean of that column's rho entries.
+  const double n = static_cast<double>(offsets.size());
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(state.size(), 1);
+  double mean_rho = 0;
+  for (int offset : offsets) {
+    W.col(0) += state.P().col(offset + 5) / n;
+    mean_rho += state.x()(offset + 5) / n;
+  }
+  Eigen::MatrixXd S(1, 1);
+  S(0, 0) = sigma * sigma;
+  for (int offset : offsets) S(0, 0) += W(offset + 5, 0) / n;
+  return kalmanUpdate(state, W, S, Eigen::VectorXd::Constant(1, rho0 - mean_rho));
 }
 
 int convertToPoint(EkfState& state, int offset) {

@@ -5,6 +5,8 @@
 // depth along m; the point is x0 + m / rho. A feature starts in one frame at any depth (infinity
 // included: rho = 0), is measured from then on, and becomes a 3D point (3 state values instead of
 // 6) once the linearity index says the Euclidean form is as linear.
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "core/camera.h"
@@ -43,6 +45,12 @@ double linearityIndex(const EkfState& state, int offset);
 
 // The Euclidean point x0 + m / rho and its Jacobian d p / d y (3x6).
 Vec3 inverseDepthToPoint(const Vec6& y, Eigen::Matrix<double, 3, 6>* J);
+
+// The scale gauge of a map started without a target: a pseudo-measurement that the mean inverse
+// depth of the features at `offsets` is rho0, with noise sigma^2 (a rank-1 update: the images
+// cannot see the map's scale, but its depths' ratios stay theirs to estimate). Features still at
+// their prior rho0 do not move. False when the features hold no variance to constrain.
+bool constrainMeanInverseDepth(EkfState& state, const std::vector<int>& offsets, double rho0, double sigma);
 
 // Replaces the feature at `offset` by its point (covariance J P J^T, cross covariances J P_y,rest).
 // Its 6 rows are removed, the point appended at the end; returns the point's offset.

@@ -134,6 +134,50 @@ TEST(InverseDepth, LinearityIndexAndConversion) {
   EXPECT_LT((state.P().block<3, 3>(point, point) - P_expected).norm(), 1e-15);
 }
 
+// The scale gauge: after the pseudo-measurement the mean inverse depth of the first frame's
+// features has the gauge's variance (from rho_sigma^2 / n), its ratios (differences) keep theirs,
+// the state does not move, and the result is the dense Kalman update with H = [.. 1/n ..].
+TEST(InverseDepth, ScaleGaugeConstrainsTheMeanInverseDepthOnly) {
+  const CameraModel camera = test::testCamera();
+  EkfState state;
+  state.reset(SE3(), Eigen::Matrix<double, 13, 13>::Identity() * 1e-6);
+  const double rho0 = 0.5, rho_sigma = 0.5, gauge = 0.001;
+  std::vector<int> offsets;
+  for (const Vec2& uv : {Vec2(100, 80), Vec2(300, 200), Vec2(500, 400), Vec2(420, 90)})
+    offsets.push_back(appendInverseDepthFeature(state, camera, uv, 1.0, rho0, rho_sigma));
+  const double n = static_cast<double>(offsets.size());
+  Eigen::RowVectorXd H = Eigen::RowVectorXd::Zero(state.size());
+  for (int o : offsets) H(o + 5) = 1 / n;
+  Eigen::RowVectorXd D = Eigen::RowVectorXd::Zero(state.size());  // rho_0 - rho_1
+  D(offsets[0] + 5) = 1, D(offsets[1] + 5) = -1;
+  const Eigen::MatrixXd P0 = state.P();
+  const Eigen::VectorXd x0 = state.x();
+  EXPECT_NEAR((H * P0 * H.transpose())(0, 0), rho_sigma * rho_sigma / n, 1e-12);
+  const double difference_variance = (D * P0 * D.transpose())(0, 0);
+
+  ASSERT_TRUE(constrainMeanInverseDepth(state, offsets, rho0, gauge));
+  const double mean_variance = (H * state.P() * H.transpose())(0, 0);
+  EXPECT_GT(mean_variance, 0.99 * gauge * gauge);
+  EXPECT_LT(mean_variance, gauge * gauge);
+  EXPECT_NEAR((D * state.P() * D.transpose())(0, 0), difference_variance, 1e-12);
+  EXPECT_LT((state.x() - x0).norm(), 1e-15);
+  const Eigen::VectorXd K = P0 * H.transpose() / ((H * P0 * H.transpose())(0, 0) + gauge * gauge);
+  const Eigen::MatrixXd expected = P0 - K * H * P0;
+  const int m = state.size() - 13;  // the map's block (kalmanUpdate also renormalises q, with its Jacobian on P)
+  EXPECT_LT((state.P().bottomRightCorner(m, m) - expected.bottomRightCorner(m, m)).norm(), 1e-12);
+
+  // Features that moved off rho0 are pulled back together: their mean becomes rho0 (within the
+  // gauge), the spread between them stays.
+  EkfState moved;
+  moved.reset(SE3(), Eigen::Matrix<double, 13, 13>::Identity() * 1e-6);
+  for (int k = 0; k < 2; ++k) appendInverseDepthFeature(moved, camera, Vec2(200 + 200 * k, 240), 1.0, rho0, rho_sigma);
+  moved.x()(13 + 5) = 0.7, moved.x()(19 + 5) = 0.5;  // mean 0.6, 0.2 apart
+  ASSERT_TRUE(constrainMeanInverseDepth(moved, {13, 19}, rho0, gauge));
+  EXPECT_NEAR(0.5 * (moved.x()(18) + moved.x()(24)), rho0, 1e-5);
+  EXPECT_NEAR(moved.x()(18) - moved.x()(24), 0.2, 1e-9);
+  EXPECT_FALSE(constrainMeanInverseDepth(moved, {}, rho0, gauge));
+}
+
 // The update with 6-value blocks (an inverse-depth feature beside a point) equals the dense
 // textbook formulas with the full H: S = H P H^T + R, K = P H^T S^-1, P - K S K^T.
 TEST(InverseDepth, BatchUpdateWithInverseDepthBlocksEqualsTheDenseFormulas) {
