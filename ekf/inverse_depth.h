@@ -49,7 +49,8 @@ Vec3 inverseDepthToPoint(const Vec6& y, Eigen::Matrix<double, 3, 6>* J);
 // The scale gauge of a map started without a target: a pseudo-measurement that the mean inverse
 // depth of the features at `offsets` is rho0, with noise sigma^2 (a rank-1 update: the images
 // cannot see the map's scale, but its depths' ratios stay theirs to estimate). Features still at
-// their prior rho0 do not move. False when the features hold no variance to constrain.
+// their prior rho0 do not move. False, the state untouched, for no features, or for sigma 0 with
+// their inverse depths already certain (S not positive definite).
 bool constrainMeanInverseDepth(EkfState& state, const std::vector<int>& offsets, double rho0, double sigma);
 
 // Replaces the feature at `offset` by its point (covariance J P J^T, cross covariances J P_y,rest).

@@ -173,9 +173,9 @@ nlohmann::json runSequence(const RunRequest& request) {
   const bool scale_free = backend.takes_init && context.init == InitSource::None;
   if (scale_free) {
     extra["alignment"] = "sim3";
-    extra["scale_convention"] = "arbitrary: world = the first camera, unit = the inverse-depth prior's: the "
-                                "first frame's features at mean inverse depth inverse_depth.rho0 (within "
-                                "inverse_depth.scale_gauge_sigma); scale = ground-truth metres per unit";
+    extra["scale_convention"] = "arbitrary: world = the first camera, unit = the inverse-depth prior's "
+                                "(inverse_depth.rho0; with inverse_depth.scale_gauge_sigma > 0 the first frame's "
+                                "features' mean inverse depth is rho0 within it); scale = ground-truth metres per unit";
     // One Sim(3) fits the run only if the run has one scale: a lost filter is never restarted.
     extra["after_loss"] = "one map at one scale: lost frames are posed again only once the map made while "
                           "the run was posed is found again (relocalised), never from a new map";
