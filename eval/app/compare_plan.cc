@@ -104,12 +104,13 @@ Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, co
   const BackendRegistration& backend = findBackend(sweep.backend, where);
   if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) { return m.backend == backend.name; }))
     throw InputError(where, backend.name + " is not among --backends");
+  const std::vector<OptionFile> own_files = optionFilesOf(backend.name, files);
   std::stringstream values(text.substr(eq + 1));
   for (std::string v; std::getline(values, v, ',');) {
     if (v.empty()) throw InputError(where, "has an empty value");
     if (std::find(sweep.values.begin(), sweep.values.end(), v) != sweep.values.end())
       throw InputError(where, "lists '" + v + "' twice");
-    for (const OptionFile& file : optionFilesOf(backend.name, files)) {
+    for (const OptionFile& file : own_files) {
       try {  // the option exists and takes the value, with the file's (or the defaults') other options
         loadBackendOptions(backend, file.path, {sweep.key + "=" + v});
       } catch (const InputError& e) {

@@ -75,24 +75,25 @@ Figure sweepFigure(const Plan& plan, const std::vector<SequenceInfo>& seqs, cons
     p.title = seqs[s].name;
     p.xlabel = "CPU ms per frame (median)";
     p.ylabel = "ATE rmse [mm]";
-    std::map<std::string, PlotSeries> by_base;  // one line per back-end, mode and option file
+    std::map<std::string, PlotSeries> by_line;  // one line per back-end, mode and option file
     std::vector<std::string> order;
     for (size_t m = 0; m < plan.methods.size(); ++m) {
       const Method& method = plan.methods[m];
-      if (!by_base.count(method.configured())) {
-        order.push_back(method.configured());
-        PlotSeries& line = by_base[method.configured()];
-        line.label = method.configured();
+      const std::string key = method.configured();
+      if (!by_line.count(key)) {
+        order.push_back(key);
+        PlotSeries& line = by_line[key];
+        line.label = key;
         line.color = method.colour;
         line.points = method.setting.empty();  // an unswept method: one point
       }
-      PlotSeries& line = by_base[method.configured()];
+      PlotSeries& line = by_line[key];
       line.x.push_back(meanOf(trialValues(plan, runs, s, m, "cpu_ms_median")));
       line.y.push_back(meanOf(trialValues(plan, runs, s, m, "ate_trans_rmse_m")) * 1e3);
       line.point_labels.push_back(method.setting.empty() ? "" : method.setting.substr(method.setting.rfind('.') + 1));
     }
-    for (const std::string& base : order) {
-      PlotSeries line = by_base[base], points = line;
+    for (const std::string& key : order) {
+      PlotSeries line = by_line[key], points = line;
       line.point_labels.clear();
       points.points = true;
       points.label = "";  // one key entry a method: the line's (or, unswept, the point's)
