@@ -34,6 +34,7 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
   // The alignment and its scale always (1 unless sim3): an unclear scale is a frequent surprise.
   std::printf("%zu pose pairs (max-diff %g s), alignment %s, scale %.6f", e.pairs.size(),
               request.options.max_diff, e.align.c_str(), e.T_gt_estimate.scale);
+  if (request.options.t_offset != 0.0) std::printf(", estimate's clock offset %+g s", request.options.t_offset);
   std::printf("; RPE over %d frame%s, %zu pairs\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
               e.rpe_trans.size());
   std::printf("%-15s %11s %11s %11s %11s %11s %11s\n", "", "rmse", "mean", "median", "std", "min",
@@ -88,6 +89,9 @@ void addEvalCommand(CLI::App& app) {
                   "sim3 (also reports the scale)");
   cmd->add_option("--max-diff", request->options.max_diff,
                   "largest time difference of an associated pose pair, seconds (default 0.01)");
+  cmd->add_option("--t-offset", request->options.t_offset,
+                  "seconds added to the estimate's timestamps before association, as evo's --t_offset "
+                  "and TUM's associate.py --offset (default 0)");
   cmd->add_option("--delta", request->options.delta, "RPE step in matched poses (default 1)");
   cmd->add_flag("--json", request->json, "print one JSON object instead of a table");
   cmd->callback([request] {

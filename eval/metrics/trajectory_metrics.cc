@@ -30,6 +30,7 @@ void EvalOptions::check() const {
     throw InputError("--align", "must be none, se3 or sim3, got '" + align + "'");
   if (!(max_diff >= 0.0) || !std::isfinite(max_diff))
     throw InputError("--max-diff", "must be a finite number of seconds >= 0");
+  if (!std::isfinite(t_offset)) throw InputError("--t-offset", "must be a finite number of seconds");
   if (delta < 1)
     throw InputError("--delta", "must be at least 1 frame, got " + std::to_string(delta));
 }
@@ -40,7 +41,14 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   TrajectoryEvaluation out;
   out.align = options.align;
   out.rpe_delta = options.delta;
-  out.pairs = associateByTime(groundtruth, estimate, options.max_diff);
+  // As evo's associate_trajectories(offset_2) and TUM's associate.py --offset: a constant clock
+  // offset of the estimate (a camera stamped on arrival, not exposure).
+  Trajectory shifted;
+  if (options.t_offset != 0.0) {
+    shifted = estimate;
+    for (StampedPose& pose : shifted) pose.timestamp += options.t_offset;
+  }
+  out.pairs = associateByTime(groundtruth, options.t_offset != 0.0 ? shifted : estimate, options.max_diff);
   const size_t n = out.pairs.size();
 
   std::vector<SE3> T_world_gt(n), T_world_est(n);
@@ -110,7 +118,8 @@ nlohmann::json evaluationToJson(const TrajectoryEvaluation& e, const EvalOptions
                         {"rot_deg", statisticsToJson(e.rpe_rot_deg_stats)},
                         {"trans_axis_rmse", axesToJson(e.rpe_axis_rmse)}};
   nlohmann::json out = {{"matched", e.pairs.size()},    {"align", e.align}, {"scale", e.T_gt_estimate.scale},
-                        {"max_diff", options.max_diff}, {"ate", ate},       {"rpe", rpe}};
+                        {"max_diff", options.max_diff}, {"t_offset", options.t_offset},
+                        {"ate", ate},                   {"rpe", rpe}};
   if (e.drift) out["drift"] = driftToJson(*e.drift);
   return out;
 }

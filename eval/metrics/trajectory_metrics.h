@@ -19,12 +19,14 @@ namespace slamcmp {
 struct EvalOptions {
   std::string align = "none";  // none | se3 | sim3: Umeyama alignment of estimate onto ground truth
   double max_diff = 0.01;      // s, largest time difference of an associated pose pair
+  double t_offset = 0.0;       // s, added to the estimate's timestamps before association (evo's --t_offset)
   int delta = 1;               // RPE: frames (matched poses) between the two poses of a pair
 
   template <class V>
   void visit(V& v) {
     v("align", align, "none | se3 | sim3: alignment of the estimate onto the ground truth");
     v("max_diff", max_diff, "s, largest time difference of an associated pose pair");
+    v("t_offset", t_offset, "s, added to the estimate's timestamps before association");
     v("delta", delta, "RPE step in matched poses");
   }
   void check() const;  // throws InputError naming the option

@@ -497,6 +497,13 @@ std::vector<BadCase> cases() {
                                " --align sideways",
                            {"--align", "sideways"}};
        }},
+      {"EvalClockOffsetNotFinite",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("gt.txt"), kGroundTruth);
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("gt.txt") +
+                               " --t-offset inf",
+                           {"--t-offset", "finite"}};
+       }},
       // run --overlay outputs that cannot be written.
       runCase(
           "OverlayFolderUnderRegularFile", [](const std::string&) {}, {"seq/rgb.txt/frames", "cannot be created"},

@@ -135,6 +135,26 @@ TEST(TrajectoryMetrics, TooFewPairsAreRefused) {
   EXPECT_NO_THROW(evaluateTrajectory(gt, est, withAlign("none", 1)));
 }
 
+// A camera stamped 37 ms late (on arrival): no pose is within --max-diff of the ground truth's;
+// an offset the wrong way pairs each pose with the ground truth's next (the error of one 0.1 s
+// step, 0.3 m); --t-offset -0.037 pairs every pose with its own.
+TEST(TrajectoryMetrics, ClockOffsetOfTheEstimateIsTakenOut) {
+  const Trajectory gt = wigglyTrajectory();
+  Trajectory late = gt;
+  for (StampedPose& pose : late) pose.timestamp += 0.037;
+  EXPECT_THROW(evaluateTrajectory(gt, late, withAlign("none")), InputError);
+  EvalOptions options = withAlign("none");
+  options.t_offset = 0.063;  // the wrong way: now 0.1 s late, a whole step
+  const TrajectoryEvaluation wrong = evaluateTrajectory(gt, late, options);
+  EXPECT_EQ(wrong.pairs.size(), gt.size() - 1);
+  EXPECT_GT(wrong.ate_trans_stats.min, 0.1);
+  options.t_offset = -0.037;
+  const TrajectoryEvaluation e = evaluateTrajectory(gt, late, options);
+  EXPECT_EQ(e.pairs.size(), gt.size());
+  EXPECT_LT(e.ate_trans_stats.max, 1e-12);
+  EXPECT_EQ(evaluationToJson(e, options)["t_offset"], -0.037);
+}
+
 TEST(TrajectoryMetrics, BadOptionsAreRefused) {
   const Trajectory t = wigglyTrajectory();
   EXPECT_THROW(evaluateTrajectory(t, t, withAlign("sim2")), InputError);
@@ -142,6 +162,9 @@ TEST(TrajectoryMetrics, BadOptionsAreRefused) {
   EvalOptions negative;
   negative.max_diff = -1.0;
   EXPECT_THROW(evaluateTrajectory(t, t, negative), InputError);
+  EvalOptions not_a_number;
+  not_a_number.t_offset = std::nan("");
+  EXPECT_THROW(evaluateTrajectory(t, t, not_a_number), InputError);
 }
 
 }  // namespace
