@@ -329,8 +329,9 @@ TEST(MonoslamTracker, BoardFreeScaleHeldByTheFirstFeatures) {
 }
 
 // The same moving along the optical axis (tv3) and on a roll of 110 degrees with strong
-// distortion. Not on tv4 (its first 130 frames back away along the optical axis): there the
-// board-free run misses the target even with its scale held (7.4 mm against 1.8 mm, README).
+// distortion. Not on tv4 (its first frames orbit the board, which leaves the wall's features
+// nearly still; the filter takes the orbit for one the other way): there the board-free run
+// misses the target even with its scale held (7.4 mm against 1.8 mm, README).
 TEST(MonoslamTracker, BoardFreeStartOnTv3AndRollWithinTwiceTheBoardStartedSim3Error) {
   for (const std::string preset : {"tv3", "roll_distortion"}) {
     test::TempDir dir;
