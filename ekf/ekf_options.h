@@ -226,7 +226,7 @@ struct InverseDepthOptions {
   int new_per_frame = 6;               // features started a frame at most (the first frame: min_visible)
   // The scale of a board-free map: the mean inverse depth of the first frame's features is rho0
   // to within this std, 1/units. With each feature's rho_sigma alone (0) the scale wandered while
-  // the map was young: tv4 (backing away) went from 0.43 to 0.195 m a unit in its first 30 frames.
+  // the map was young: tv4 (orbiting the board) went from 0.43 to 0.195 m a unit in its first 30 frames.
   // Full presets without a board, Sim(3) ATE 0 -> 0.001: tv1..tv4 1.25 / 2.04 / 1.78 / 13.8 ->
   // 1.00 / 1.07 / 1.09 / 8.2 mm, wall_turn s1-s3 1.06 / 2.02 / 18.1 -> 0.87 / 1.54 / 2.45,
   // board_leaves s1-s2 1.51 / 3.84 -> 1.02 / 1.97, roll_distortion 0.87 both; 0.0003-0.01 alike.

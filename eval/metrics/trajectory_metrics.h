@@ -59,7 +59,7 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
 
 // SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, trans,
 // rot_deg}, each statistic block rmse, mean, median, std, min, max; drift when it has segments;
-// plus max_diff, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
+// plus max_diff, t_offset, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
 nlohmann::json evaluationToJson(const TrajectoryEvaluation& evaluation, const EvalOptions& options);
 
 }  // namespace slamcmp

@@ -277,9 +277,10 @@ TEST_F(MonoslamOnTv1, OverlayShowsWhatWasSearchedAndMatched) {
   EXPECT_GT(rays, 0);
 }
 
-// tv4's first 130 frames move away from the board along the optical axis (0.65 to 1.05 m), where
-// a new feature's depth is weakly observed: promoted too early (depth std/mean 0.3) its depth error
-// pulls the camera 5 cm (14 cm at worst) off; the defaults keep it to millimetres.
+// tv4's first 130 frames orbit the board sideways (to frame 43), then move away from it along the
+// optical axis (0.65 to 1.05 m), where a new feature's depth is weakly observed: promoted too early
+// (depth std/mean 0.3) its depth error pulls the camera 5 cm (14 cm at worst) off; the defaults keep
+// it to millimetres.
 TEST(MonoslamTracker, Tv4MotionAlongTheOpticalAxisUnderOneCentimetre) {
   test::TempDir dir;
   renderFast("tv4", 130, dir.path());
@@ -292,10 +293,10 @@ TEST(MonoslamTracker, Tv4MotionAlongTheOpticalAxisUnderOneCentimetre) {
 }
 
 // A board-free map's scale is the gauge its first features fix (inverse_depth.scale_gauge_sigma):
-// on tv4, backing away along the optical axis, each feature's prior alone let it wander (full
-// render: 0.43 m a unit over the first 20 frames, 0.195 from frame 40 on, full-length Sim(3) ATE
-// 13.8 mm), with the gauge it holds (0.33-0.34; 8.2 mm). Metres of ground-truth path per unit of
-// estimated path, over frames 1-20 and 40-119. At one sample per pixel (here): 0.37 then 0.21
+// on tv4 (an orbit sideways about the board, then backing away) each feature's prior alone let it
+// wander (full render: 0.43 m a unit over the first 20 frames, 0.195 from frame 40 on, full-length
+// Sim(3) ATE 13.8 mm), with the gauge it holds (0.33-0.34; 8.2 mm). Metres of ground-truth path per
+// unit of estimated path, over frames 1-20 and 40-119. At one sample per pixel (here): 0.37 then 0.21
 // without, 0.32 then 0.30 with; the Sim(3) ATE is 15 mm either way over these 120 frames (what is
 // left is not the scale), so only the scale is held to.
 TEST(MonoslamTracker, BoardFreeScaleHeldByTheFirstFeatures) {
