@@ -1,6 +1,8 @@
 #include "eval/metrics/trajectory_metrics.h"
 
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include "core/error.h"
 
@@ -48,7 +50,14 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
     shifted = estimate;
     for (StampedPose& pose : shifted) pose.timestamp += options.t_offset;
   }
-  out.pairs = associateByTime(groundtruth, options.t_offset != 0.0 ? shifted : estimate, options.max_diff);
+  try {
+    out.pairs = associateByTime(groundtruth, options.t_offset != 0.0 ? shifted : estimate, options.max_diff);
+  } catch (const InputError& e) {  // the times it quotes are the shifted ones: say so
+    if (options.t_offset == 0.0) throw;
+    std::ostringstream offset;
+    offset << options.t_offset;
+    throw InputError("", std::string(e.what()) + " (the estimate's times after --t-offset " + offset.str() + " s)");
+  }
   const size_t n = out.pairs.size();
 
   std::vector<SE3> T_world_gt(n), T_world_est(n);

@@ -144,6 +144,13 @@ TEST(TrajectoryMetrics, ClockOffsetOfTheEstimateIsTakenOut) {
   for (StampedPose& pose : late) pose.timestamp += 0.037;
   EXPECT_THROW(evaluateTrajectory(gt, late, withAlign("none")), InputError);
   EvalOptions options = withAlign("none");
+  options.t_offset = 0.5;  // far the wrong way: no pair, and the error says the times are shifted
+  try {
+    evaluateTrajectory(gt, late, options);
+    ADD_FAILURE() << "no pose pair, yet no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("after --t-offset 0.5"), std::string::npos) << e.what();
+  }
   options.t_offset = 0.063;  // the wrong way: now 0.1 s late, a whole step
   const TrajectoryEvaluation wrong = evaluateTrajectory(gt, late, options);
   EXPECT_EQ(wrong.pairs.size(), gt.size() - 1);
