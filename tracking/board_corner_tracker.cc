@@ -227,8 +227,9 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
   // Each corner's four squares, sampled near it (within the refinement's window), must show
   // their colours: a corner beside the edge of something hiding part of the board has the
   // refinement pulled off it.
+  Mat3 H = homographyDlt(plane, undistorted);
+  bool h_fits_kept = true;  // H is still the least-squares fit of every kept corner
   {
-    const Mat3 H = homographyDlt(plane, undistorted);
     BoardCorners clear;
     std::vector<Vec2> clear_plane, clear_undistorted;
     for (size_t k = 0; k < kept.ids.size(); ++k) {
@@ -239,6 +240,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
       clear_undistorted.push_back(undistorted[k]);
     }
     if (static_cast<int>(clear.ids.size()) < minCorners()) return false;
+    h_fits_kept = clear.ids.size() == kept.ids.size();
     kept = std::move(clear);
     plane = std::move(clear_plane);
     undistorted = std::move(clear_undistorted);
@@ -256,7 +258,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
   // up to 13 corners of a whole view that the whole fit keeps.
   std::vector<double> errors;
   if (static_cast<int>(plane.size()) == target_.numCorners())
-    errors = homographyErrors(homographyDlt(plane, undistorted), plane, undistorted);
+    errors = homographyErrors(h_fits_kept ? H : homographyDlt(plane, undistorted), plane, undistorted);
   if (errors.empty() || !(*std::max_element(errors.begin(), errors.end()) <=
                           std::min(options_.max_corner_error_px, kMaxCornerErrorOverMedian * median(errors)))) {
     std::vector<cv::Point2f> plane_cv, undistorted_cv;

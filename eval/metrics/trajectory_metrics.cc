@@ -45,13 +45,10 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   out.rpe_delta = options.delta;
   // As evo's associate_trajectories(offset_2) and TUM's associate.py --offset: a constant clock
   // offset of the estimate (a camera stamped on arrival, not exposure).
-  Trajectory shifted;
-  if (options.t_offset != 0.0) {
-    shifted = estimate;
-    for (StampedPose& pose : shifted) pose.timestamp += options.t_offset;
-  }
+  Trajectory shifted = estimate;
+  for (StampedPose& pose : shifted) pose.timestamp += options.t_offset;
   try {
-    out.pairs = associateByTime(groundtruth, options.t_offset != 0.0 ? shifted : estimate, options.max_diff);
+    out.pairs = associateByTime(groundtruth, shifted, options.max_diff);
   } catch (const InputError& e) {  // the times it quotes are the shifted ones: say so
     if (options.t_offset == 0.0) throw;
     std::ostringstream offset;
