@@ -126,6 +126,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
       squares.push_back(p.square_px);
     }
   const bool all_in_image = predicted == n;
+  outside_gates_.clear();
   std::vector<cv::Mat> pyramid;
   const cv::Size lk_window(options_.lk_window_px, options_.lk_window_px);
   cv::buildOpticalFlowPyramid(grey, pyramid, lk_window, options_.lk_levels);
@@ -262,7 +263,9 @@ std::optional<BoardCornerMeasurement> BoardCornerMeasurer::searchPredicted(const
   if (found.empty()) return std::nullopt;
   std::vector<int> ids(pred.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
-  return keep(pred, ids, found);
+  BoardCornerMeasurement kept = keep(pred, ids, found);
+  if (kept.observations.empty()) outside_gates_ = found;
+  return kept;
 }
 
 BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, const cv::Mat& grey) {

@@ -11,7 +11,7 @@
 namespace slamcmp {
 
 struct CornerNoiseOptions {
-  bool enabled = false;          // off: the corners keep their set pixel_sigma
+  bool enabled = true;           // off: the corners keep their set pixel_sigma
   double min_pixel_sigma = 0.01;  // pixels: the estimate's floor (the homography absorbs some errors)
   double time_constant_frames = 30;  // a view's residuals weigh exp(-age / this), age in views of the board since
   int min_dof = 40;              // the set pixel_sigma until this many degrees of freedom are pooled

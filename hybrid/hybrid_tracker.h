@@ -40,7 +40,19 @@ struct HybridStartOptions {
 };
 
 struct HybridOptions {
-  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
+  // Listed flat: motion, search, feature_init, map, health, reporting. The motion noise is
+  // estimated from the velocity corrections (ekf/adaptive_motion_noise.h), down to 0.5 m/s^2 and
+  // 1 rad/s^2: with the board's corners weighed as they scatter, the set 2 and 3 (a hand-held
+  // camera's) leave search ellipses where the room's features match look-alikes once the board has
+  // gone (board_leaves seed 4: 46 mm off in one frame), and a floor of 1 and 2 lets through two
+  // of those (wall_turn seeds 1 and 3, 4-5 times the gap's allowance).
+  EkfSlamOptions filter = [] {
+    EkfSlamOptions f;
+    f.motion.adaptive.enabled = true;
+    f.motion.adaptive.min_sigma_a = 0.5;
+    f.motion.adaptive.min_sigma_alpha = 1.0;
+    return f;
+  }();
   HybridStartOptions start;
   BoardCornerMeasurementOptions corners;
   TrackedMotionOptions tracked_motion;

@@ -61,7 +61,9 @@ TEST(CornerNoise, SetValueUntilEnoughIsPooledAndWhenOff) {
   for (int view = 0; view < 3; ++view) noise.add(viewErrors(0.05, rng));
   EXPECT_NEAR(noise.pixelSigma(), 0.05, 0.02);
 
-  CornerNoise off(CornerNoiseOptions{}, 0.2);
+  CornerNoiseOptions off_options;
+  off_options.enabled = false;
+  CornerNoise off(off_options, 0.2);
   for (int view = 0; view < 10; ++view) off.add(viewErrors(0.05, rng));
   EXPECT_EQ(off.pixelSigma(), 0.2);
 }

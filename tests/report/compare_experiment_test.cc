@@ -220,7 +220,7 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   TempDir tmp;
   const std::string seq = renderTv1(tmp, 12);
   const std::string file = tmp.file("precise.yaml");
-  test::writeText(file, "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.05\n");
+  test::writeText(file, "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: 0.02\n");
   CompareOptions options = shortCompare(seq, "cslam,hybrid", tmp.file("out"));
   options.configs = {"defaults", file};
   runCompare(options);
@@ -241,8 +241,8 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
     const nlohmann::json summary = nlohmann::json::parse(readFile(tmp.file("out/" + run + "/summary.json")));
     return summary.at("options").at("corners").at("pixel_sigma").get<double>();
   };
-  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid-config=precise"), 0.05);
-  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid"), 0.2);
+  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid-config=precise"), 0.02);
+  EXPECT_EQ(pixel_sigma("runs/tv1-hybrid"), 0.05);
   const std::string report = readFile(tmp.file("out/report.md"));
   EXPECT_NE(report.find("`hybrid config=precise`"), std::string::npos) << report;
   EXPECT_NE(report.find("Option files (`run --config`): `" + fs::canonical(file).string() + "`"),
