@@ -20,8 +20,9 @@ namespace slamcmp {
 
 struct SubpixelCornerOptions {
   static inline const std::vector<std::string> kMethods{"gradient", "opencv"};
-  // "gradient" (the method above) or "opencv" (cv::cornerSubPix, the thesis's and SceneLib's). Not
-  // yet the default: with it three regressions at shortened length move (cslam's calibration mode
+  // "gradient" (the method above) or "opencv" (cv::cornerSubPix, the thesis's and SceneLib's).
+  // hybrid's corners take gradient (its own default since session 21); not yet this struct's
+  // default, cslam's: with it three regressions at shortened length move (cslam's calibration mode
   // finds wall_turn's returning board a frame late at supersample 1; board_leaves' half-board
   // frames, 2x better with the whole board 3x better, hold 1.1 of it where the test holds 1.0;
   // hybrid's tracked points, board_leaves seeds 1 and 2, just over the away allowance).

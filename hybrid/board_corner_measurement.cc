@@ -264,8 +264,10 @@ std::optional<BoardCornerMeasurement> BoardCornerMeasurer::searchPredicted(const
   std::vector<int> ids(pred.size());
   for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
   BoardCornerMeasurement kept = keep(pred, ids, found);
-  if (kept.observations.empty()) outside_gates_ = found;
-  return kept;
+  if (kept.observations.size() >= kMinFoundCornersFitting * found.size()) return kept;
+  reset();
+  outside_gates_ = found;
+  return BoardCornerMeasurement();
 }
 
 BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, const cv::Mat& grey) {

@@ -48,7 +48,7 @@ struct BoardCornerMeasurementOptions {
   BoardPresenceOptions presence;     // the quick test before each board search, once the board has been seen
   template <class V>
   void visit(V& v) {
-    v("pixel_sigma", pixel_sigma, "pixels, measurement noise of a board corner");
+    v("pixel_sigma", pixel_sigma, "pixels, measurement noise of a board corner (where the estimate starts when noise.enabled)");
     v("gate", gate, "chi-square (2 dof) probability of each corner's innovation gate");
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side for tracking corners, pixels");
     v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
@@ -80,6 +80,12 @@ struct BoardCornerMeasurementOptions {
 // 8, each once.
 std::vector<int> spotCheckCorners(const std::vector<int>& ids, int cols);
 
+// A board found by a search is measured only when this fraction of its corners fits the filter's
+// gates: a few that happen to lie near a drifted prediction (wall_turn seed 2's return with the
+// gradient corners: 9 of 54, one column and a row's end) pulled the camera 17 cm off where the
+// board's own pose is right.
+constexpr double kMinFoundCornersFitting = 0.5;
+
 struct BoardCornerMeasurement {
   std::vector<PointObservation> observations;  // offset kKnownPoint; z and h per kept corner
   std::vector<int> corner_ids;                 // the corner index (SPEC order) of each observation
@@ -108,8 +114,9 @@ class BoardCornerMeasurer {
   // where the presence test rules it out (tracking/board_presence).
   std::vector<cv::Point2f> searchWholeImage(const cv::Mat& grey);
   // The whole board (SPEC order, distorted pixels) that the last measure() detected where the
-  // filter predicts it but outside the corners' gates, else empty: the prediction, not the
-  // board, was wrong.
+  // filter predicts it with fewer than kMinFoundCornersFitting of its corners inside their gates
+  // (then none is measured), else empty: the prediction, not the board, was wrong. reset()
+  // leaves it.
   const std::vector<cv::Point2f>& boardOutsideGates() const { return outside_gates_; }
   // The Lucas-Kanade pyramid of the image last measured (measure, measureDetected), for other
   // trackers of the same frame.

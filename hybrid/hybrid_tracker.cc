@@ -8,12 +8,6 @@
 
 namespace slamcmp {
 
-namespace {
-
-// A board found by a search re-anchors the filter only if this fraction of its corners fits it.
-constexpr double kMinFoundCornersFitting = 0.5;
-
-}  // namespace
 
 void HybridStartOptions::check() const {
   for (const auto& [field, sigma] : {std::pair{"position_sigma", position_sigma},
@@ -139,11 +133,11 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
     }
     return board;
   }
-  corners_->reset();
   // Found where the filter predicts it but outside its gates, else not there: the whole image
   // every search_interval frames (a full search of a textured frame without the board costs
   // 100-350 ms; the presence test first, 5 ms).
   std::vector<cv::Point2f> found = corners_->boardOutsideGates();
+  corners_->reset();
   if (found.empty() && ++frames_since_search_ >= co.search_interval) {
     frames_since_search_ = 0;
     found = corners_->searchWholeImage(frame.grey);
@@ -161,9 +155,7 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   P.diagonal().segment<3>(EkfState::kR).array() += co.reanchor_position_sigma * co.reanchor_position_sigma;
   P.diagonal().segment<4>(EkfState::kQ).array() += co.reanchor_orientation_sigma * co.reanchor_orientation_sigma;
   board = corners_->measureDetected(slam_->state(), frame.grey, found);
-  // At least half the found corners must fit the widened filter: a few that happen to lie near a
-  // drifted prediction (wall_turn seed 2's return with the gradient corners: 9 of 54, one column
-  // and a row's end) pulled the camera 17 cm off where the board's own pose is right.
+  // Most of the found corners must fit the widened filter (kMinFoundCornersFitting).
   if (board.observations.size() >= kMinFoundCornersFitting * found.size() && corners_->update(slam_->state(), &board))
     return board;
   *restarted = true;

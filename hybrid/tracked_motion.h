@@ -27,12 +27,14 @@
 namespace slamcmp {
 
 struct TrackedMotionOptions {
-  // Off by default. Full presets, seed 1 (README): the tracks with their points lower hybrid's
-  // error with the board in view (tv1 0.68 -> 0.42 mm, tv2 0.73 -> 0.39), carry it through the
-  // board's departure where the dozen patch features did not (board_leaves seed 2 2.18 -> 0.81),
-  // and pose the frames facing another wall (wall_turn, 1.3-1.6 % of the path off), but
-  // roll_distortion goes from 0.20 to 0.72 mm and board_leaves seed 3 from 3.7 to 4.4, and a frame
-  // costs about twice as much.
+  // Off by default. Full presets, seed 1 (README), with the defaults to session 20
+  // (cv::cornerSubPix's corners at 0.2 px; since then the defaults are as accurate with the board
+  // in view without the tracks, which are for the frames without it): the tracks with their
+  // points lower hybrid's error with the board in view (tv1 0.68 -> 0.42 mm, tv2 0.73 -> 0.39),
+  // carry it through the board's departure where the dozen patch features did not (board_leaves
+  // seed 2 2.18 -> 0.81), and pose the frames facing another wall (wall_turn, 1.3-1.6 % of the
+  // path off), but roll_distortion goes from 0.20 to 0.72 mm and board_leaves seed 3 from 3.7 to
+  // 4.4, and a frame costs about twice as much.
   bool enabled = false;
   // Camera poses cloned in the state, the current one's included. 2, each frame-to-frame step of
   // every track used in the frame it is made, did best: with 8 (ATE tv1..tv4 0.64 / 0.70 / 0.88 /

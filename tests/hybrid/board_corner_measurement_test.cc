@@ -33,14 +33,17 @@ class BoardCornerMeasurerTv1 : public ::testing::Test {
 
   // The corners measured in frame 1 by a measurer that measured frame 0 from the true pose, with
   // the filter's prior for frame 1 at T_world_camera; each with its distance to where the true
-  // pose projects the corner it is said to be, pixels.
-  static std::vector<double> measureSecondFrame(const SE3& T_world_camera, double position_sigma) {
+  // pose projects the corner it is said to be, pixels. `outside_gates`: the board the measurer
+  // found where predicted but outside its gates.
+  static std::vector<double> measureSecondFrame(const SE3& T_world_camera, double position_sigma,
+                                                std::vector<cv::Point2f>* outside_gates = nullptr) {
     BoardCornerMeasurer measurer(tv1_->camera, tv1_->target, BoardCornerMeasurementOptions());
     const test::PosedFrame& first = tv1_->frames.at(0);
     EXPECT_EQ(static_cast<int>(measurer.measure(filterAt(first.T_world_camera, 1e-5), first.grey).observations.size()),
               tv1_->target.numCorners());
     const test::PosedFrame& second = tv1_->frames.at(1);
     const BoardCornerMeasurement m = measurer.measure(filterAt(T_world_camera, position_sigma), second.grey);
+    if (outside_gates) *outside_gates = measurer.boardOutsideGates();
     const std::vector<cv::Point2f> truth = projectBoardCorners(tv1_->camera, tv1_->target, second.T_world_camera);
     std::vector<double> errors;
     for (size_t k = 0; k < m.observations.size(); ++k) {
@@ -61,9 +64,12 @@ std::unique_ptr<test::RenderedPreset> BoardCornerMeasurerTv1::tv1_;
 double positionSigma(const ChessboardTarget& target) { return target.square_size / 6.0; }
 
 TEST_F(BoardCornerMeasurerTv1, TracksEveryCornerFromATruePrediction) {
-  const std::vector<double> errors = measureSecondFrame(tv1_->frames.at(1).T_world_camera, positionSigma(tv1_->target));
+  std::vector<cv::Point2f> outside_gates;
+  const std::vector<double> errors =
+      measureSecondFrame(tv1_->frames.at(1).T_world_camera, positionSigma(tv1_->target), &outside_gates);
   EXPECT_EQ(static_cast<int>(errors.size()), tv1_->target.numCorners());
   for (double e : errors) EXPECT_LT(e, 0.3);
+  EXPECT_TRUE(outside_gates.empty());
 }
 
 // The prior a square off along the board's diagonal (the camera moved by one square in x and y):
@@ -71,14 +77,22 @@ TEST_F(BoardCornerMeasurerTv1, TracksEveryCornerFromATruePrediction) {
 // a row has its colours swapped), and Lucas-Kanade started there stays on it, its innovation
 // nought. Tracked also from where the corners were, the two starts disagree: no corner is
 // measured with its neighbour's identity (a board search where the filter predicts it finds the
-// board 1.4 squares from the prediction, beyond the gate).
+// board 1.4 squares from the prediction, beyond the gate, and hands it on as such).
 TEST_F(BoardCornerMeasurerTv1, RefusesAPredictionASquareOff) {
   const SE3& truth = tv1_->frames.at(1).T_world_camera;
   const double s = tv1_->target.square_size;
-  const std::vector<double> errors = measureSecondFrame(SE3(truth.R(), truth.t() + Vec3(s, s, 0)), positionSigma(tv1_->target));
+  std::vector<cv::Point2f> outside_gates;
+  const std::vector<double> errors =
+      measureSecondFrame(SE3(truth.R(), truth.t() + Vec3(s, s, 0)), positionSigma(tv1_->target), &outside_gates);
   EXPECT_TRUE(errors.empty()) << errors.size() << " corners measured";
   const double square_px = 20;  // tv1's squares are 21-28 px: a wrong identity is a square off
   for (double e : errors) EXPECT_LT(e, 0.5 * square_px) << "a corner measured with another's identity";
+  // The board found there is handed on (the tracker then widens the filter and takes it), each
+  // corner with its own identity.
+  ASSERT_EQ(static_cast<int>(outside_gates.size()), tv1_->target.numCorners());
+  const std::vector<cv::Point2f> at_truth =
+      projectBoardCorners(tv1_->camera, tv1_->target, tv1_->frames.at(1).T_world_camera);
+  for (size_t k = 0; k < outside_gates.size(); ++k) EXPECT_LT(cv::norm(outside_gates[k] - at_truth[k]), 0.3) << k;
 }
 
 // The corners checked first are the hull's: the whole board's four corners (not one column, as a
