@@ -127,8 +127,9 @@ TrackedRun runOn(const std::string& path, int max_frames = -1, bool with_camera 
 // board_leaves, 200 frames: the board in view, 55 degrees away for about 6 s, back. Targets: no
 // frame left unposed while the room's features are measured; away, worst error at most 1 % of
 // the path since the board was last seen or 5 mm; back, within 5 frames under 1.5 times the
-// board-visible error. Measured at this length and supersample 2: about 1 mm in view, 2 mm worst
-// away, 2.6 mm just after the return (1.5 mm at supersample 3): the last is held at 3 mm.
+// board-visible error. Measured at this length and supersample 2 with the defaults to session 20
+// (cv::cornerSubPix's corners at 0.2 px): about 1 mm in view, 2 mm worst away, 2.6 mm just after
+// the return (1.5 mm at supersample 3): the last is held at 3 mm.
 void expectBoardLeavesTargets(const TrackedRun& run) {
   const double in_view = run.rmsWhere([&](const FrameScore& f) { return f.corners_in_view == run.corners; });
   EXPECT_LT(in_view, 0.0015);
@@ -160,9 +161,9 @@ TEST(HybridTracker, BoardLeavesAndComesBack) {
 
 // The same with the tracked features and their points (hybrid/tracked_motion.h), over three seeds
 // of the boxes new patch features are drawn in. Without them, whether the filter carries on after
-// the last corner hangs on its few young patch features: seeds 0-4 measured 0.31 / 1.01 / 1.99 /
-// 0.18 / 1.02 of the away allowance; with them 0.77 / 0.50 / 0.43 / 0.43 / 0.97, the returns
-// 1.2-2.7 mm.
+// the last corner hangs on its few young patch features: seeds 0-4 measured (the defaults to
+// session 20) 0.31 / 1.01 / 1.99 / 0.18 / 1.02 of the away allowance; with them 0.77 / 0.50 /
+// 0.43 / 0.43 / 0.97, the returns 1.2-2.7 mm.
 TEST(HybridTracker, BoardLeavesAndComesBackWithTrackedPoints) {
   TempDir dir;
   const std::string path = render(dir, "board_leaves", 200);
@@ -258,7 +259,8 @@ TEST(HybridTracker, AnotherWallThenTheBoardAgain) {
 // The same with the tracked points (hybrid/tracked_motion.h), which count as measurements: the
 // frames facing the other wall are posed instead of lost. The target there is max(5 mm,
 // 1 % of the path since the board was last seen); measured 1.55 times that at this length (1.3-1.6
-// on the full presets, README), so this holds twice the target, and the return as above.
+// on the full presets, README; the defaults to session 20), so this holds twice the target, and
+// the return as above.
 // configs/hybrid_tracked.yaml (tracks and corners at 0.05 px, the corners' noise estimated, four
 // poses in the window, the tracks also without the board, the motion noise adapted) meets the
 // target here: worst away 0.80 of it, held at 1. Its angular floor at 1 rad/s^2 against 0.5: 0.80
