@@ -85,8 +85,9 @@ void addEvalCommand(CLI::App& app) {
   map_option->needs(scene_option);
   scene_option->needs(map_option);
   cmd->add_option("--align", request->options.align,
-                  "Umeyama alignment of the estimate onto the ground truth: none (default), se3, "
-                  "sim3 (also reports the scale)");
+                  "alignment of the estimate onto the ground truth: none (default); Umeyama se3 or sim3 "
+                  "(also reports the scale); origin: its first matched pose onto the ground truth's (evo's "
+                  "--align_origin: each pose's error relative to the first)");
   cmd->add_option("--max-diff", request->options.max_diff,
                   "largest time difference of an associated pose pair, seconds (default 0.01)");
   cmd->add_option("--t-offset", request->options.t_offset,

@@ -28,8 +28,8 @@ nlohmann::json axesToJson(const Vec3& v) { return {{"x", v.x()}, {"y", v.y()}, {
 }  // namespace
 
 void EvalOptions::check() const {
-  if (align != "none" && align != "se3" && align != "sim3")
-    throw InputError("--align", "must be none, se3 or sim3, got '" + align + "'");
+  if (align != "none" && align != "se3" && align != "sim3" && align != "origin")
+    throw InputError("--align", "must be none, se3, sim3 or origin, got '" + align + "'");
   if (!(max_diff >= 0.0) || !std::isfinite(max_diff))
     throw InputError("--max-diff", "must be a finite number of seconds >= 0");
   if (!std::isfinite(t_offset)) throw InputError("--t-offset", "must be a finite number of seconds");
@@ -63,16 +63,23 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
     T_world_est[k] = estimate[out.pairs.estimate[k]].T_world_camera;
   }
 
-  if (options.align != "none") {
+  if (options.align == "origin") {
+    // evo's PosePath3D.align_origin: T_gt[0] T_est[0]^-1 applied on the left of every pose, so
+    // that the errors are those of each pose relative to the first (a run's own world frame).
+    const SE3 T_gt_estimate = T_world_gt.front() * T_world_est.front().inverse();
+    out.T_gt_estimate.R = T_gt_estimate.R();
+    out.T_gt_estimate.t = T_gt_estimate.t();
+  } else if (options.align != "none") {
     std::vector<Vec3> p_est(n), p_gt(n);
     for (size_t k = 0; k < n; ++k) {
       p_est[k] = T_world_est[k].t();
       p_gt[k] = T_world_gt[k].t();
     }
     out.T_gt_estimate = alignUmeyama(p_est, p_gt, options.align == "sim3");
-    // As evo's PosePath3D.align: scale the positions, then apply the rigid part to every pose.
-    for (SE3& T : T_world_est) T = SE3(out.T_gt_estimate.R * T.R(), out.T_gt_estimate * T.t());
   }
+  // As evo's PosePath3D.align: scale the positions, then apply the rigid part to every pose.
+  if (options.align != "none")
+    for (SE3& T : T_world_est) T = SE3(out.T_gt_estimate.R * T.R(), out.T_gt_estimate * T.t());
 
   out.ate_trans.resize(n);
   out.ate_rot_deg.resize(n);

@@ -17,14 +17,16 @@
 namespace slamcmp {
 
 struct EvalOptions {
-  std::string align = "none";  // none | se3 | sim3: Umeyama alignment of estimate onto ground truth
+  // none | se3 | sim3: Umeyama alignment of the estimate onto the ground truth; origin: the
+  // estimate moved so that its first matched pose is the ground truth's (evo's --align_origin)
+  std::string align = "none";
   double max_diff = 0.01;      // s, largest time difference of an associated pose pair
   double t_offset = 0.0;       // s, added to the estimate's timestamps before association (evo's --t_offset)
   int delta = 1;               // RPE: frames (matched poses) between the two poses of a pair
 
   template <class V>
   void visit(V& v) {
-    v("align", align, "none | se3 | sim3: alignment of the estimate onto the ground truth");
+    v("align", align, "none | se3 | sim3 | origin: alignment of the estimate onto the ground truth");
     v("max_diff", max_diff, "s, largest time difference of an associated pose pair");
     v("t_offset", t_offset, "s, added to the estimate's timestamps before association");
     v("delta", delta, "RPE step in matched poses");
@@ -34,7 +36,7 @@ struct EvalOptions {
 
 struct TrajectoryEvaluation {
   PosePairs pairs;            // matched poses, in the order of the error arrays below
-  std::string align;          // none | se3 | sim3
+  std::string align;          // none | se3 | sim3 | origin
   Similarity3 T_gt_estimate;  // the alignment applied (identity for none; scale 1 unless sim3)
   // Per matched pose: |t_gt - t_est| (m) and the angle of R_gt^T R_est (degrees), after alignment.
   std::vector<double> ate_trans, ate_rot_deg;

@@ -33,7 +33,7 @@ EvalOptions withAlign(const std::string& align, int delta = 1) {
 
 TEST(TrajectoryMetrics, TrajectoryAgainstItselfHasNoError) {
   const Trajectory t = wigglyTrajectory();
-  for (const char* align : {"none", "se3", "sim3"}) {
+  for (const char* align : {"none", "se3", "sim3", "origin"}) {
     const TrajectoryEvaluation e = evaluateTrajectory(t, t, withAlign(align));
     EXPECT_EQ(e.pairs.size(), t.size()) << align;
     EXPECT_LT(e.ate_trans_stats.max, 1e-12) << align;
@@ -91,6 +91,33 @@ TEST(TrajectoryMetrics, Sim3RecoversAKnownSimilarity) {
   EXPECT_EQ(rigid.T_gt_estimate.scale, 1.0);
   EXPECT_GT(rigid.ate_trans_stats.rmse, 0.1);
   EXPECT_LT(rigid.ate_rot_deg_stats.max, 1e-9);  // the rotation is still found exactly
+}
+
+// The estimate lives in another world frame (G on the left of every pose, as a run whose world is
+// its first camera) and turns a known angle a_k too far about its own axes from pose 1 on:
+// est_k = G gt_k Rx(a_k). Origin alignment (evo's --align_origin) undoes G exactly, since the
+// first pose is unperturbed: every rotation error is a_k, every position error 0. An se3 fit of
+// the positions would also undo G, but "none" leaves G's error.
+TEST(TrajectoryMetrics, OriginAlignmentLeavesEachPoseRelativeToTheFirst) {
+  const Trajectory gt = wigglyTrajectory();
+  const SE3 G = SE3::fromRotvec(Vec3(0.3, -1.1, 0.6), Vec3(-2.0, 0.5, 4.0));
+  Trajectory est = gt;
+  std::vector<double> turn_deg(gt.size());
+  for (size_t k = 0; k < est.size(); ++k) {
+    turn_deg[k] = 0.25 * static_cast<double>(k);  // 0 at the first pose
+    est[k].T_world_camera =
+        G * gt[k].T_world_camera * SE3::fromRotvec(Vec3(turn_deg[k] * kPi / 180, 0, 0), Vec3::Zero());
+  }
+  const TrajectoryEvaluation e = evaluateTrajectory(gt, est, withAlign("origin"));
+  ASSERT_EQ(e.ate_rot_deg.size(), gt.size());
+  for (size_t k = 0; k < gt.size(); ++k) {
+    EXPECT_NEAR(e.ate_rot_deg[k], turn_deg[k], 1e-9) << k;
+    EXPECT_LT(e.ate_trans[k], 1e-12) << k;
+  }
+  EXPECT_EQ(e.T_gt_estimate.scale, 1.0);
+  EXPECT_LT((e.T_gt_estimate.R - G.inverse().R()).norm(), 1e-12);
+  EXPECT_EQ(evaluationToJson(e, withAlign("origin"))["align"], "origin");
+  EXPECT_GT(evaluateTrajectory(gt, est, withAlign("none")).ate_trans_stats.min, 1.0);
 }
 
 // Four poses along x, 1 m apart; the estimate's third pose is off by 0.1 m in y and turned 90
