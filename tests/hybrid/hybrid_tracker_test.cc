@@ -156,7 +156,26 @@ void expectBoardLeavesTargets(const TrackedRun& run) {
 
 TEST(HybridTracker, BoardLeavesAndComesBack) {
   TempDir dir;
-  expectBoardLeavesTargets(runOn(render(dir, "board_leaves", 200)));
+  const std::string path = render(dir, "board_leaves", 200);
+  expectBoardLeavesTargets(runOn(path));
+  // Other seeds of the boxes new patch features are drawn in: every frame posed in the gap within
+  // its allowance. Worst error over the allowance, seeds 0 / 1 / 3: 0.42 / 0.85 / 0.62 (0.56 /
+  // 0.94 / 0.65 with a new feature started only below 12 visible, SceneLib's and monoslam's).
+  // Seeds 2 and 4 report all but 0-2 of the gap's frames lost (the camera's position std passes
+  // 1 cm) either way: not a pass here, not a made-up pose either.
+  for (const int seed : {0, 1, 3}) {
+    SCOPED_TRACE("feature_init.seed " + std::to_string(seed));
+    HybridOptions options;
+    options.filter.feature_init.seed = seed;
+    const TrackedRun run = runOn(path, -1, true, options);
+    int away = 0;
+    for (const FrameScore& f : run.frames) {
+      if (f.corners_in_view > 0 || !f.error) continue;
+      ++away;
+      EXPECT_LE(*f.error, std::max(0.005, 0.01 * f.path_since_board));
+    }
+    EXPECT_GT(away, 40);
+  }
 }
 
 // The same with the tracked features and their points (hybrid/tracked_motion.h), over three seeds
