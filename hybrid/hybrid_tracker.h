@@ -51,9 +51,9 @@ struct HybridOptions {
   // wall_turn's turn to the other wall, measured by 3-6 patch features, went 2.5 -> 11 mm off in
   // its last ten posed frames at the 5 cm of monoslam (seeds 3 and 6: 2.3 and 1.6 times the
   // allowance, now 0.62 and 0.46; 6-8 frames fewer posed a run). A new feature is started
-  // while fewer than 16 are visible (monoslam: SceneLib's 12): with 12 and the board in view none
-  // was, so the features that carry the pose once the board leaves were started after it had
-  // gone, without its anchor (board_leaves seeds 1 and 4: 1.13 and 2.71 times the gap's
+  // while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a dozen were visible
+  // beside the board none was, so the features that carry the pose once the board leaves were
+  // started after it had gone, without its anchor (board_leaves seeds 1 and 4: 1.13 and 2.71 times the gap's
   // allowance, now 0.47 and 0.57).
   EkfSlamOptions filter = [] {
     EkfSlamOptions f;

@@ -92,6 +92,23 @@ TEST(CmdEval, AlignmentScaleAndDriftAlwaysShown) {
   for (const char* key : {"trans_percent", "rot_deg_per_m"}) EXPECT_TRUE(j["drift"][key].is_number()) << key;
 }
 
+// evo's --align_origin: the estimate's first pose put on the ground truth's takes out the pair's
+// constant 0.1 m offset, and the table says which alignment it used.
+TEST(CmdEval, OriginAlignmentTakesOutTheFirstPosesOffset) {
+  TempDir tmp;
+  writePair(tmp, 1.0);
+  const std::string files = "eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt");
+  const auto json = runSlamcmp(files + " --align origin --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(j["align"], "origin");
+  EXPECT_EQ(j["scale"], 1.0);
+  EXPECT_NEAR(j["ate"]["trans"]["max"].get<double>(), 0.0, 1e-12);
+  const auto table = runSlamcmp(files + " --align origin");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("alignment origin, scale 1.000000"), std::string::npos) << table.out;
+}
+
 TEST(CmdEval, MissingFileIsBadInput) {
   TempDir tmp;
   writePair(tmp, 1.0);

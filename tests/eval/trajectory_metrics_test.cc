@@ -94,26 +94,31 @@ TEST(TrajectoryMetrics, Sim3RecoversAKnownSimilarity) {
 }
 
 // The estimate lives in another world frame (G on the left of every pose, as a run whose world is
-// its first camera) and turns a known angle a_k too far about its own axes from pose 1 on:
-// est_k = G gt_k Rx(a_k). Origin alignment (evo's --align_origin) undoes G exactly, since the
-// first pose is unperturbed: every rotation error is a_k, every position error 0. An se3 fit of
-// the positions would also undo G, but "none" leaves G's error.
+// its first camera) and from pose 1 on is off by a known turn a_k and a known step d_k in its own
+// camera frame: est_k = G gt_k (Rx(a_k), d_k). Origin alignment (evo's --align_origin) undoes G
+// exactly, since the first pose is unperturbed: every rotation error is a_k and every position
+// error |d_k|. An se3 fit of the positions would spread the steps over every pose instead; "none"
+// leaves G's error.
 TEST(TrajectoryMetrics, OriginAlignmentLeavesEachPoseRelativeToTheFirst) {
   const Trajectory gt = wigglyTrajectory();
   const SE3 G = SE3::fromRotvec(Vec3(0.3, -1.1, 0.6), Vec3(-2.0, 0.5, 4.0));
   Trajectory est = gt;
-  std::vector<double> turn_deg(gt.size());
+  std::vector<double> turn_deg(gt.size()), step(gt.size());
   for (size_t k = 0; k < est.size(); ++k) {
-    turn_deg[k] = 0.25 * static_cast<double>(k);  // 0 at the first pose
+    const double i = static_cast<double>(k);  // 0 at the first pose
+    turn_deg[k] = 0.25 * i;
+    const Vec3 d_camera(0.002 * i, -0.001 * i * i / 40, 0.003 * std::sin(0.3 * i));
+    step[k] = d_camera.norm();
     est[k].T_world_camera =
-        G * gt[k].T_world_camera * SE3::fromRotvec(Vec3(turn_deg[k] * kPi / 180, 0, 0), Vec3::Zero());
+        G * gt[k].T_world_camera * SE3::fromRotvec(Vec3(turn_deg[k] * kPi / 180, 0, 0), d_camera);
   }
   const TrajectoryEvaluation e = evaluateTrajectory(gt, est, withAlign("origin"));
   ASSERT_EQ(e.ate_rot_deg.size(), gt.size());
   for (size_t k = 0; k < gt.size(); ++k) {
     EXPECT_NEAR(e.ate_rot_deg[k], turn_deg[k], 1e-9) << k;
-    EXPECT_LT(e.ate_trans[k], 1e-12) << k;
+    EXPECT_NEAR(e.ate_trans[k], step[k], 1e-12) << k;
   }
+  EXPECT_GT(evaluateTrajectory(gt, est, withAlign("se3")).ate_trans.front(), 1e-3);
   EXPECT_EQ(e.T_gt_estimate.scale, 1.0);
   EXPECT_LT((e.T_gt_estimate.R - G.inverse().R()).norm(), 1e-12);
   EXPECT_EQ(evaluationToJson(e, withAlign("origin"))["align"], "origin");

@@ -130,15 +130,22 @@ TrackedRun runOn(const std::string& path, int max_frames = -1, bool with_camera 
 // board-visible error. Measured at this length and supersample 2 with the defaults to session 20
 // (cv::cornerSubPix's corners at 0.2 px): about 1 mm in view, 2 mm worst away, 2.6 mm just after
 // the return (1.5 mm at supersample 3): the last is held at 3 mm.
-void expectBoardLeavesTargets(const TrackedRun& run) {
-  const double in_view = run.rmsWhere([&](const FrameScore& f) { return f.corners_in_view == run.corners; });
-  EXPECT_LT(in_view, 0.0015);
+// Every frame posed while no corner is in view within max(5 mm, 1 % of the path since the board
+// was last seen); returns how many there are.
+int expectGapWithinAllowance(const TrackedRun& run) {
   int away = 0;
   for (const FrameScore& f : run.frames) {
     if (f.corners_in_view > 0 || !f.error) continue;
     ++away;
     EXPECT_LE(*f.error, std::max(0.005, 0.01 * f.path_since_board));
   }
+  return away;
+}
+
+void expectBoardLeavesTargets(const TrackedRun& run) {
+  const double in_view = run.rmsWhere([&](const FrameScore& f) { return f.corners_in_view == run.corners; });
+  EXPECT_LT(in_view, 0.0015);
+  const int away = expectGapWithinAllowance(run);
   EXPECT_EQ(run.posed(), 200);
   EXPECT_GT(away, 40);
   // The frames after the return: the first with the whole board back, then five more.
@@ -158,23 +165,22 @@ TEST(HybridTracker, BoardLeavesAndComesBack) {
   TempDir dir;
   const std::string path = render(dir, "board_leaves", 200);
   expectBoardLeavesTargets(runOn(path));
-  // Other seeds of the boxes new patch features are drawn in: every frame posed in the gap within
-  // its allowance. Worst error over the allowance, seeds 0 / 1 / 3: 0.42 / 0.85 / 0.62 (0.56 /
-  // 0.94 / 0.65 with a new feature started only below 12 visible, SceneLib's and monoslam's).
-  // Seeds 2 and 4 report all but 0-2 of the gap's frames lost (the camera's position std passes
-  // 1 cm) either way: not a pass here, not a made-up pose either.
-  for (const int seed : {0, 1, 3}) {
+  // Other seeds of the boxes new patch features are drawn in (the default is 0). Seeds 1 and 3
+  // pose every frame, the gap's within its allowance (worst 0.85 and 0.62 of it; 0.94 and 0.65
+  // with a new feature started only below 12 visible, SceneLib's and monoslam's). Seeds 2 and 4
+  // report all but 2 and 0 of the gap's 65 frames lost (the camera's position std passes 1 cm;
+  // posed at 5 cm they are 5-6 mm off): what they do pose must be within it too (seed 2's two
+  // frames 0.88 of it; 1.28 with 12), never a made-up pose.
+  for (const int seed : {1, 2, 3, 4}) {
     SCOPED_TRACE("feature_init.seed " + std::to_string(seed));
     HybridOptions options;
     options.filter.feature_init.seed = seed;
     const TrackedRun run = runOn(path, -1, true, options);
-    int away = 0;
-    for (const FrameScore& f : run.frames) {
-      if (f.corners_in_view > 0 || !f.error) continue;
-      ++away;
-      EXPECT_LE(*f.error, std::max(0.005, 0.01 * f.path_since_board));
+    const int away = expectGapWithinAllowance(run);
+    if (seed == 1 || seed == 3) {
+      EXPECT_EQ(run.posed(), 200);
+      EXPECT_GT(away, 40);
     }
-    EXPECT_GT(away, 40);
   }
 }
 
