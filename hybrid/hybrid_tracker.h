@@ -53,8 +53,8 @@ struct HybridOptions {
   // allowance, now 0.62 and 0.46; 6-8 frames fewer posed a run). A new feature is started
   // while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a dozen were visible
   // beside the board none was, so the features that carry the pose once the board leaves were
-  // started after it had gone, without its anchor (board_leaves seeds 1 and 4: 1.13 and 2.71 times the gap's
-  // allowance, now 0.47 and 0.57).
+  // started after it had gone, without its anchor (board_leaves seeds 1 and 4: 1.13 and 2.71
+  // times the gap's allowance, now 0.47 and 0.57).
   EkfSlamOptions filter = [] {
     EkfSlamOptions f;
     f.feature_init.min_visible = 16;
