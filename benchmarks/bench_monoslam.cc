@@ -138,7 +138,7 @@ void BM_BatchUpdate(benchmark::State& bench) {
 BENCHMARK(BM_BatchUpdate)->ArgsProduct({kMapSizes})->ArgName("N");
 
 // hybrid's board: 54 corners, known points, in one update on a map of 25 or 60 points (60: about
-// the state of configs/hybrid_tracked.yaml, its clones and tracked points); the camera 1 mm and
+// the state of hybrid's defaults, their clones and tracked points); the camera 1 mm and
 // 0.05 degrees from where the corners put it (a frame of tracking). once 1: one linearisation
 // (batchUpdate, P's update of rank 108); 0: iterated to convergence (iteratedUpdate, what hybrid
 // runs; here 2 steps; P's update compressed to rank 7).
@@ -179,7 +179,7 @@ BENCHMARK(BM_BoardCornerUpdate)
     ->ArgNames({"once", "points"})
     ->Unit(benchmark::kMicrosecond);
 
-// hybrid's tracked features (hybrid/tracked_motion.h, off by default): one MSCKF update of T
+// hybrid's tracked features (hybrid/tracked_motion.h): one MSCKF update of T
 // tracks seen in the last two frames (window 2: the clone of the previous pose and the camera,
 // 4 mm apart), on a map of 25 points; each track triangulated, its residual projected on the
 // left null space of its point, the rows compressed by QR to the clones' 14 columns.

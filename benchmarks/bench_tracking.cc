@@ -8,7 +8,7 @@
 // the end of the sequence the tracker starts again (untimed). SLAMCMP_BENCH_CONFIG names an option
 // file (as `slamcmp run --config`): the back-ends with a section in it run with those options.
 //
-//   SLAMCMP_BENCH_CONFIG=configs/hybrid_tracked.yaml build/benchmarks/bench_tracking --benchmark_filter=hybrid
+//   SLAMCMP_BENCH_CONFIG=configs/hybrid_patches.yaml build/benchmarks/bench_tracking --benchmark_filter=hybrid
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>

@@ -46,22 +46,20 @@ struct HybridOptions {
   // camera's) leave search ellipses where the room's features match look-alikes once the board has
   // gone (board_leaves seed 4: 46 mm off in one frame), and a floor of 1 and 2 lets through two
   // of those (wall_turn seeds 1 and 3, 4-5 times the gap's allowance). A frame whose camera
-  // position std exceeds 1 cm (twice the gap's least allowance, 5 mm) is reported lost: with its
-  // corners weighed as they scatter the filter is about as sure as it should be (NEES 3-12), and
-  // wall_turn's turn to the other wall, measured by 3-6 patch features, went 2.5 -> 11 mm off in
-  // its last ten posed frames at the 5 cm of monoslam (seeds 3 and 6: 2.3 and 1.6 times the
-  // allowance, now 0.62 and 0.46; 6-8 frames fewer posed a run). A new feature is started
-  // while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a dozen were visible
-  // beside the board none was, so the features that carry the pose once the board leaves were
-  // started after it had gone, without its anchor (board_leaves seeds 1 and 4: 1.13 and 2.71
-  // times the gap's allowance, now 0.47 and 0.57).
+  // position std exceeds 5 cm is reported lost, as monoslam's: with the tracked features
+  // (tracked_motion.h) the frames facing wall_turn's other wall are posed, within the gap's
+  // allowance on 8 of 10 seeds. Without them (configs/hybrid_patches.yaml) the bound is 1 cm: 3-6
+  // patch features a frame took the pose there 2.5 -> 11 mm off in ten frames. A new feature is
+  // started while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a dozen were
+  // visible beside the board none was, so the features that carry the pose once the board leaves
+  // were started after it had gone, without its anchor (without the tracks, board_leaves seeds 1
+  // and 4: 1.13 and 2.71 times the gap's allowance, 0.47 and 0.57 with 16).
   EkfSlamOptions filter = [] {
     EkfSlamOptions f;
     f.feature_init.min_visible = 16;
     f.motion.adaptive.enabled = true;
     f.motion.adaptive.min_sigma_a = 0.5;
     f.motion.adaptive.min_sigma_alpha = 1.0;
-    f.reporting.max_position_sigma = 0.01;
     return f;
   }();
   HybridStartOptions start;

@@ -27,32 +27,37 @@
 namespace slamcmp {
 
 struct TrackedMotionOptions {
-  // Off by default. Full presets, seed 1 (README), with the defaults to session 20
-  // (cv::cornerSubPix's corners at 0.2 px; since then the defaults are as accurate with the board
-  // in view without the tracks, which are for the frames without it): the tracks with their
-  // points lower hybrid's error with the board in view (tv1 0.68 -> 0.42 mm, tv2 0.73 -> 0.39),
-  // carry it through the board's departure where the dozen patch features did not (board_leaves
-  // seed 2 2.18 -> 0.81), and pose the frames facing another wall (wall_turn, 1.3-1.6 % of the
-  // path off), but roll_distortion goes from 0.20 to 0.72 mm and board_leaves seed 3 from 3.7 to
-  // 4.4, and a frame costs about twice as much.
-  bool enabled = false;
-  // Camera poses cloned in the state, the current one's included. 2, each frame-to-frame step of
-  // every track used in the frame it is made, did best: with 8 (ATE tv1..tv4 0.64 / 0.70 / 0.88 /
-  // 1.59 mm against 0.54 / 0.43 / 0.84 / 1.55) the current pose learns from the few tracks that
-  // end in its frame only.
-  int window = 2;
+  // On by default since session 23 (configs/hybrid_patches.yaml turns it off): without the tracks
+  // the dozen patch features did not carry the filter through wall_turn's turn to the other wall
+  // (2-8 measured a frame, new ones started one at a time): a third of each run's frames were
+  // reported lost there, where the tracks pose them all (README, "hybrid's tracked features").
+  // They cost about twice as much a frame (bench, tv1: 0.91 -> 1.77 ms).
+  bool enabled = true;
+  // Camera poses cloned in the state, the current one's included. Four: facing wall_turn's other
+  // wall, seeds 1-5 and seed 1 at 240 frames (the ctest) 0.84 / 1.53 / 0.88 / 1.08 / 0.90 / 0.83
+  // -> 0.50 / 1.41 / 0.88 / 0.77 / 0.79 / 0.80 times the gap's allowance against 2 (3: 0.84 /
+  // 1.25 / 0.59 / 0.70 / 0.87 / 1.03), seeds 6-8, rendered after the choice, 0.44 / 0.65 / 0.76
+  // -> 0.70 / 0.43 / 0.31; board_leaves seeds 1-3 0.37 / 0.12 / 0.20 -> 0.33 / 0.15 / 0.12; with
+  // the board in view within 5 %. With 8 the current pose learns from the few tracks that end in
+  // its frame only (tv1..tv4 worse, with cv::cornerSubPix's corners).
+  int window = 4;
   int min_track_length = 2;     // a track seen in fewer frames is not used
-  // A track's noise per coordinate, pixels. Tracks on the renders are within 0.015 px of their
-  // epipolar lines, but the filter around them is not that exact (its board corners assumed at
-  // 0.2 px, found to 0.05): 0.12-0.3 px measured best, 0.3 the steadiest over 13 presets.
-  double pixel_sigma = 0.3;
+  // A track's noise per coordinate, pixels. The tracks lie within 0.015-0.03 px of their true
+  // epipolar lines on the renders: at 0.05 px their relative motion beats the board's own
+  // ambiguity, and a track sliding along an occlusion (0.4-1 px a frame) must then be found by
+  // testing each against the others (snooping_probability). 0.3 suited the board's corners at
+  // 0.2 px (the defaults to session 20).
+  double pixel_sigma = 0.05;
   double gate_probability = 0.99;
   double min_parallax_deg = 0;  // two frames apart, a track's rays are nearly parallel
   double max_triangulation_px = 2.0;
-  // Also update the frames without board corners. Measured (window 2-4, 7 runs of board_leaves
-  // and wall_turn): better on some runs, worse on others (board_leaves seed 3 NEES 5-11).
-  bool without_board = false;
-  double snooping_probability = 0;  // each track tested against the others (msckf_update.h); 0: off
+  // Also update the frames without board corners: with the corners and tracks at 0.05 px the drift
+  // facing wall_turn's other wall falls (seeds 1-5: 1.35 / 1.29 / 1.19 / 1.19 / 0.71 -> 0.49 /
+  // 1.38 / 0.86 / 1.10 / 0.83 times the allowance) and board_leaves' returns settle sooner.
+  bool without_board = true;
+  // Each track tested against the others (msckf_update.h); 0: off. 0.99: wall_turn seed 2 and
+  // board_leaves at 200 frames a little worse.
+  double snooping_probability = 0.95;
   FeatureTrackerOptions tracks{80, 50};  // at most 80 tracked, replenished below 50
   // Tracks held as points (tracked_points.h), started on tracks that are none while fewer are held.
   TrackedPointsOptions points;

@@ -296,17 +296,17 @@ TEST(CompareExperiment, OptionFilesAreSettingsOfTheirBackEnds) {
   test::writeText(tmp.file("a_b.yaml"), "%YAML:1.0\n---\nhybrid:\n  corners:\n    gate: 0.99\n");
   refused({tmp.file("a b.yaml"), tmp.file("a_b.yaml")}, "hybrid", {"would write the same run folders"});
   // A sweep is checked on top of each file it applies to: min_track_length may reach the file's
-  // window (4), beyond the defaults' (2); a value the file's options refuse names the file.
+  // window (6), beyond the defaults' (4); a value the file's options refuse names the file.
   const std::string window = tmp.file("window.yaml");
-  test::writeText(window, "%YAML:1.0\n---\nhybrid:\n  tracked_motion:\n    window: 4\n");
+  test::writeText(window, "%YAML:1.0\n---\nhybrid:\n  tracked_motion:\n    window: 6\n");
   CompareOptions long_tracks = shortCompare(seq, "hybrid", tmp.file("long"));
   long_tracks.configs = {window};
-  long_tracks.sets = {"hybrid.tracked_motion.min_track_length=3,4"};
+  long_tracks.sets = {"hybrid.tracked_motion.min_track_length=5,6"};
   EXPECT_EQ(planCompare(long_tracks), 2u);
-  refused({"defaults", window}, "hybrid", {"--set hybrid.tracked_motion.min_track_length=3,4: value 3: "},
-          {"hybrid.tracked_motion.min_track_length=3,4"});
-  refused({window}, "hybrid", {"value 5 with --config " + fs::canonical(window).string()},
-          {"hybrid.tracked_motion.min_track_length=3,5"});
+  refused({"defaults", window}, "hybrid", {"--set hybrid.tracked_motion.min_track_length=5,6: value 5: "},
+          {"hybrid.tracked_motion.min_track_length=5,6"});
+  refused({window}, "hybrid", {"value 7 with --config " + fs::canonical(window).string()},
+          {"hybrid.tracked_motion.min_track_length=5,7"});
   const std::string misspelt = tmp.file("misspelt.yaml");
   test::writeText(misspelt, "%YAML:1.0\n---\nhybird:\n  corners:\n    pixel_sigma: 0.1\n");
   refused({misspelt}, "hybrid", {misspelt, "hybird"});
