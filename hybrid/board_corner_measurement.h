@@ -34,7 +34,8 @@ struct BoardCornerMeasurementOptions {
   // The board coming back into view after a gap is then measured corner by corner as it enters
   // (wall_turn: 3 sigma 0.46 squares there, the error 0.04), where 0.3 waited for the whole board
   // and its search: wall_turn seeds 1-10, frames with half the board or more in view, 0.42-1.28
-  // -> 0.14-0.28 mm; board_leaves 1-7 0.20-0.66 -> 0.17-0.27; vamr the same (1.1658 mm).
+  // -> 0.14-0.28 mm; board_leaves 1-7 0.20-0.66 -> 0.17-0.27; vamr the same (1.1658 mm). 0.5 is
+  // the most check() takes.
   double max_predicted_search = 0.5;
   double max_plane_error_px = 1.5;   // corners off the board plane's homography by more are dropped, pixels
   int min_corners = 6;               // fewer corners kept: none is used this frame

@@ -58,10 +58,10 @@ class BoardCornerMeasurerTv1 : public ::testing::Test {
 
 std::unique_ptr<test::RenderedPreset> BoardCornerMeasurerTv1::tv1_;
 
-// A sixth of a square of position std: each corner's 3-sigma half axis about half a square, wide
-// enough that a square-off prediction is not refined where it stands, narrow enough that the gate
-// refuses a corner a square from its prediction.
-double positionSigma(const ChessboardTarget& target) { return target.square_size / 6.0; }
+// A fifth of a square of position std: each corner's 3-sigma half axis over half a square, wide
+// enough that a square-off prediction is not refined where it stands (corners.max_predicted_search,
+// 0.5 squares), narrow enough that the gate (4.3 sigma) refuses a corner a square from its prediction.
+double positionSigma(const ChessboardTarget& target) { return target.square_size / 5.0; }
 
 TEST_F(BoardCornerMeasurerTv1, TracksEveryCornerFromATruePrediction) {
   std::vector<cv::Point2f> outside_gates;
