@@ -30,8 +30,8 @@ struct TrackedMotionOptions {
   // On by default since session 23 (configs/hybrid_patches.yaml turns it off): without the tracks
   // the dozen patch features did not carry the filter through wall_turn's turn to the other wall
   // (2-8 measured a frame, new ones started one at a time): a third of each run's frames were
-  // reported lost there, where the tracks pose them all (README, "hybrid's tracked features").
-  // They cost about twice as much a frame (bench, tv1: 0.91 -> 1.77 ms).
+  // reported lost there, where the tracks pose them all (README, "hybrid's tracked features on
+  // by default"). They cost about twice as much a frame (bench, tv1: 0.91 -> 1.77 ms).
   bool enabled = true;
   // Camera poses cloned in the state, the current one's included. Four: facing wall_turn's other
   // wall, seeds 1-5 and seed 1 at 240 frames (the ctest) 0.84 / 1.53 / 0.88 / 1.08 / 0.90 / 0.83
