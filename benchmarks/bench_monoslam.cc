@@ -179,10 +179,10 @@ BENCHMARK(BM_BoardCornerUpdate)
     ->ArgNames({"once", "points"})
     ->Unit(benchmark::kMicrosecond);
 
-// hybrid's tracked features (hybrid/tracked_motion.h): one MSCKF update of T
-// tracks seen in the last two frames (a window of 2, not the defaults' 4: the clone of the previous
-// pose and the camera, 4 mm apart), on a map of 25 points; each track triangulated, its residual projected on the
-// left null space of its point, the rows compressed by QR to the clones' 14 columns.
+// hybrid's tracked features (hybrid/tracked_motion.h): one MSCKF update of T tracks seen in the
+// last two frames (a window of 2, not the defaults' 4: the clone of the previous pose and the
+// camera, 4 mm apart), on a map of 25 points; each track triangulated, its residual projected on
+// the left null space of its point, the rows compressed by QR to the clones' 14 columns.
 void BM_MsckfUpdate(benchmark::State& bench) {
   const CameraModel camera = benchCamera();
   EkfState prior = syntheticState(25);

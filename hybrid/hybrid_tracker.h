@@ -41,24 +41,24 @@ struct HybridStartOptions {
 
 struct HybridOptions {
   // Listed flat: motion, search, feature_init, map, health, reporting. The motion noise is
-  // estimated from the velocity corrections (ekf/adaptive_motion_noise.h), down to 0.5 m/s^2 and
-  // 1 rad/s^2: with the board's corners weighed as they scatter, the set 2 and 3 (a hand-held
+  // estimated from the velocity corrections (ekf/adaptive_motion_noise.h), down to 0.5 m/s^2
+  // and 1 rad/s^2: with the board's corners weighed as they scatter, the set 2 and 3 (a hand-held
   // camera's) leave search ellipses where the room's features match look-alikes once the board has
-  // gone (board_leaves seed 4: 46 mm off in one frame), and a floor of 1 and 2 lets through two
-  // of those (wall_turn seeds 1 and 3, 4-5 times the gap's allowance). A frame whose camera
-  // position std exceeds 5 cm is reported lost, as monoslam's: with the tracked features
-  // (tracked_motion.h) the frames facing wall_turn's other wall are posed, within the gap's
-  // allowance on every seed of 14 (with the patch features below). Without them (configs/hybrid_patches.yaml) the bound is 1 cm: 3-6
-  // patch features a frame took the pose there 2.5 -> 11 mm off in ten frames. A new feature is
-  // started while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a dozen were
-  // visible beside the board none was, so the features that carry the pose once the board leaves
-  // were started after it had gone, without its anchor (without the tracks, board_leaves seeds 1
-  // and 4: 1.13 and 2.71 times the gap's allowance, 0.47 and 0.57 with 16). The patch features
-  // are weighed at 0.5 px (SceneLib's 1 px; they innovate 0.25-0.3 px on the renders): with the
-  // tracked features, facing wall_turn's other wall (seeds 1-12) the worst over the gap's
-  // allowance falls from 0.31-1.98 (three seeds over) to 0.23-0.99 (0.4 px: one over, 1.09; 0.6
-  // px: one, 1.19); seed 10's one-frame step (a patch update moved the camera 5.4 mm) is gone.
-  // Alone (configs/hybrid_patches.yaml keeps 1 px) 0.3-0.5 px did not help: the gap over its
+  // gone (board_leaves seed 4: 46 mm off in one frame), and a floor of 1 and 2 lets through two of
+  // those (wall_turn seeds 1 and 3, 4-5 times the gap's allowance). A frame whose camera position
+  // std exceeds 5 cm is reported lost, as monoslam's: with the tracked features (tracked_motion.h)
+  // the frames facing wall_turn's other wall are posed, within the gap's allowance on every seed of
+  // 14 (with the patch features below). Without them (configs/hybrid_patches.yaml) the bound is
+  // 1 cm: 3-6 patch features a frame took the pose there 2.5 -> 11 mm off in ten frames. A new
+  // feature is started while fewer than 16 are visible (monoslam: SceneLib's 12): with 12, once a
+  // dozen were visible beside the board none was, so the features that carry the pose once the
+  // board leaves were started after it had gone, without its anchor (without the tracks,
+  // board_leaves seeds 1 and 4: 1.13 and 2.71 times the gap's allowance, 0.47 and 0.57 with 16).
+  // The patch features are weighed at 0.5 px (SceneLib's 1 px; they innovate 0.25-0.3 px on the
+  // renders): with the tracked features, facing wall_turn's other wall (seeds 1-12) the worst over
+  // the gap's allowance falls from 0.31-1.98 (three seeds over) to 0.23-0.99 (0.4 px: one over,
+  // 1.09; 0.6 px: one, 1.19); seed 10's one-frame step (a patch update moved the camera 5.4 mm) is
+  // gone. Alone (configs/hybrid_patches.yaml keeps 1 px) 0.3-0.5 px did not help: the gap over its
   // allowance on 5 of 10 wall_turn seeds.
   EkfSlamOptions filter = [] {
     EkfSlamOptions f;

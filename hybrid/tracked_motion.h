@@ -35,12 +35,12 @@ struct TrackedMotionOptions {
   bool enabled = true;
   // Camera poses cloned in the state, the current one's included. Four (measured with the patch
   // features at 1 px, before session 23; with today's 0.5 px the ctest's is 0.57): facing
-  // wall_turn's other wall, seeds 1-5 and seed 1 at 240 frames (the ctest) 0.84 / 1.53 / 0.88 / 1.08 / 0.90 / 0.83
-  // -> 0.50 / 1.41 / 0.88 / 0.77 / 0.79 / 0.80 times the gap's allowance against 2 (3: 0.84 /
-  // 1.25 / 0.59 / 0.70 / 0.87 / 1.03), seeds 6-8, rendered after the choice, 0.44 / 0.65 / 0.76
-  // -> 0.70 / 0.43 / 0.31; board_leaves seeds 1-3 0.37 / 0.12 / 0.20 -> 0.33 / 0.15 / 0.12; with
-  // the board in view within 5 %. With 8 the current pose learns from the few tracks that end in
-  // its frame only (tv1..tv4 worse, with cv::cornerSubPix's corners).
+  // wall_turn's other wall, seeds 1-5 and seed 1 at 240 frames (the ctest) 0.84 / 1.53 / 0.88 /
+  // 1.08 / 0.90 / 0.83 -> 0.50 / 1.41 / 0.88 / 0.77 / 0.79 / 0.80 times the gap's allowance against
+  // 2 (3: 0.84 / 1.25 / 0.59 / 0.70 / 0.87 / 1.03), seeds 6-8, rendered after the choice, 0.44 /
+  // 0.65 / 0.76 -> 0.70 / 0.43 / 0.31; board_leaves seeds 1-3 0.37 / 0.12 / 0.20 -> 0.33 / 0.15 /
+  // 0.12; with the board in view within 5 %. With 8 the current pose learns from the few tracks
+  // that end in its frame only (tv1..tv4 worse, with cv::cornerSubPix's corners).
   int window = 4;
   int min_track_length = 2;     // a track seen in fewer frames is not used
   // A track's noise per coordinate, pixels. The tracks lie within 0.015-0.03 px of their true
@@ -53,8 +53,9 @@ struct TrackedMotionOptions {
   double min_parallax_deg = 0;  // two frames apart, a track's rays are nearly parallel
   double max_triangulation_px = 2.0;
   // Also update the frames without board corners: with the corners and tracks at 0.05 px the drift
-  // facing wall_turn's other wall falls (the patch features then at 1 px; seeds 1-5: 1.35 / 1.29 / 1.19 / 1.19 / 0.71 -> 0.49 /
-  // 1.38 / 0.86 / 1.10 / 0.83 times the allowance) and board_leaves' returns settle sooner.
+  // facing wall_turn's other wall falls (the patch features then at 1 px; seeds 1-5: 1.35 / 1.29 /
+  // 1.19 / 1.19 / 0.71 -> 0.49 / 1.38 / 0.86 / 1.10 / 0.83 times the allowance) and board_leaves'
+  // returns settle sooner.
   bool without_board = true;
   // Each track tested against the others (msckf_update.h); 0: off. 0.99: wall_turn seed 2 and
   // board_leaves at 200 frames a little worse.

@@ -242,13 +242,13 @@ TEST(HybridTracker, PartialBoardIsAsGoodAsTheWholeBoard) {
   }
 }
 
-// wall_turn, 240 frames: 12 s facing another wall. The target there is max(5 mm, 1 % of
-// the path since the board was last seen). With the defaults (tracks and corners at 0.05 px, the
-// corners' noise estimated, four poses in the window, the tracks also without the board, the
-// motion noise adapted, the patch features at 0.5 px) every frame is posed, the worst away 0.57
-// of the target (0.80 with the patches at 1 px: held at 0.8 of that), held at 1. Their angular floor at 1 rad/s^2
-// against 0.5: 0.57 against 0.67 (0.80 against 1.01 at 1 px; at 0.5 the prediction lags the
-// turn's start as the board leaves), held at 0.95 of it. From the fifth frame after the return
+// wall_turn, 240 frames: 12 s facing another wall. The target there is max(5 mm, 1 % of the
+// path since the board was last seen). With the defaults (tracks and corners at 0.05 px, the
+// corners' noise estimated, four poses in the window, the tracks also without the board, the motion
+// noise adapted, the patch features at 0.5 px) every frame is posed, the worst away 0.57 of the
+// target (0.80 with the patches at 1 px: held at 0.8 of that), held at 1. Their angular floor at
+// 1 rad/s^2 against 0.5: 0.57 against 0.67 (0.80 against 1.01 at 1 px; at 0.5 the prediction lags
+// the turn's start as the board leaves), held at 0.95 of it. From the fifth frame after the return
 // within 1 mm.
 double worstAwayOverTarget(const TrackedRun& run) {
   double worst = 0;
