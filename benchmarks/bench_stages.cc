@@ -181,15 +181,17 @@ void BM_ChessboardDetect(benchmark::State& state, const std::string& set, bool b
 }
 
 // One view's corners refined (core/subpixel_corner.h: method gradient or opencv).
+// method "gradient_lens": gradient, its edges taken straight through the camera's lens.
 void BM_CornerRefinement(benchmark::State& state, const std::string& set, const std::string& method) {
   const StageData* d = dataOrSkip(state, set);
   if (!d) return;
   ChessboardDetectorOptions options;
-  options.subpixel.method = method;
+  const bool lens = method == "gradient_lens";
+  options.subpixel.method = lens ? "gradient" : method;
   size_t i = 0;
   for (auto _ : state) {
     std::vector<cv::Point2f> uv = d->corners[i];
-    refineChessboardCorners(d->b->frames[d->detected[i]].grey, d->target, uv, options);
+    refineChessboardCorners(d->b->frames[d->detected[i]].grey, d->target, uv, options, lens ? &d->camera : nullptr);
     benchmark::DoNotOptimize(uv.data());
     i = (i + 1) % d->corners.size();
   }
@@ -675,7 +677,7 @@ const bool registered = [] {
   for (const std::string set : {"tv1", "vamr"}) {
     add("BM_ChessboardDetect/" + set + "/board_present", [set](auto& s) { BM_ChessboardDetect(s, set, true); },
         benchmark::kMillisecond);
-    for (const std::string method : {"opencv", "gradient"})
+    for (const std::string method : {"opencv", "gradient", "gradient_lens"})
       add("BM_CornerRefinement/" + set + "/" + method, [set, method](auto& s) { BM_CornerRefinement(s, set, method); });
     add("BM_BoardCornerTracking/" + set, [set](auto& s) { BM_BoardCornerTracking(s, set); });
     add("BM_HomographyPose/" + set + "/dlt", [set](auto& s) { BM_HomographyPose(s, set, false); });

@@ -150,12 +150,13 @@ std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const Ch
 }
 
 void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& t,
-                             std::vector<cv::Point2f>& uv, const ChessboardDetectorOptions& options) {
+                             std::vector<cv::Point2f>& uv, const ChessboardDetectorOptions& options,
+                             const CameraModel* camera) {
   const double spacing = minCornerSpacing(t, uv);
   // Window side 2w+1 under refine_window_fraction of a square, so it never reaches another corner.
   const int half = std::clamp(static_cast<int>((options.refine_window_fraction * spacing - 1) / 2), 1,
                               options.max_refine_half_window);
-  refineCornersSubpixel(grey, half, uv, options.subpixel);
+  refineCornersSubpixel(grey, half, uv, options.subpixel, camera);
 }
 
 bool detectChessboard(const cv::Mat& grey, const ChessboardTarget& t, std::vector<cv::Point2f>* uv,

@@ -63,10 +63,11 @@ std::vector<cv::Point2f> projectEveryBoardCorner(const CameraModel& camera, cons
 std::vector<cv::Point2f> projectBoardCorners(const CameraModel& camera, const ChessboardTarget& target,
                                              const SE3& T_world_camera);
 
-// Sub-pixel refinement with a window under half a square (estimated from the corner spacing).
+// Sub-pixel refinement with a window under half a square (estimated from the corner spacing);
+// `camera`: the lens that took `grey` (refineCornersSubpixel).
 void refineChessboardCorners(const cv::Mat& grey, const ChessboardTarget& target,
                              std::vector<cv::Point2f>& uv,
-                             const ChessboardDetectorOptions& options = {});
+                             const ChessboardDetectorOptions& options = {}, const CameraModel* camera = nullptr);
 
 // Smallest distance between neighbouring corners of the grid, in pixels.
 double minCornerSpacing(const ChessboardTarget& target, const std::vector<cv::Point2f>& uv);

@@ -16,6 +16,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/camera.h"
+
 namespace slamcmp {
 
 struct SubpixelCornerOptions {
@@ -33,6 +35,13 @@ struct SubpixelCornerOptions {
   double smoothing_sigma_px = 1.5;
   int max_iterations = 30;
   double epsilon_px = 0.001;  // the iteration stops when the corner moves less than this
+  // gradient, with the camera given: the junction's edges taken straight where they are, in the
+  // undistorted image. A lens bends them within the window and the fit in the image leans
+  // outwards under barrel distortion: roll_distortion's corners (k1 -0.32) sat 0.0036 / 0.0056 px
+  // out at 75 / 125 px from the centre, so the board looked 7e-5 too large and hybrid's camera
+  // sat 32 um too near it in every frame, 3 times its std (0.0001 px and 0.1 um taken straight;
+  // tv1's k1 -0.1: 0.0016 px, 8 um). 45 % more per corner (bench_stages BM_CornerRefinement).
+  bool undistorted = true;
   template <class V>
   void visit(V& v) {
     v("method", method,
@@ -43,6 +52,9 @@ struct SubpixelCornerOptions {
       "1.5 px), pixels");
     v("max_iterations", max_iterations, "iterations at most per corner");
     v("epsilon_px", epsilon_px, "the iteration stops when the corner moves less than this, pixels");
+    v("undistorted", undistorted,
+      "gradient, with the camera known: the junction's edges taken straight in the undistorted image (a lens "
+      "bends them)");
   }
   void check() const;
 };
@@ -50,8 +62,9 @@ struct SubpixelCornerOptions {
 // Refines each corner of `uv` (distorted pixels) in a window of half side `half_window` pixels.
 // A corner the gradient method cannot place (its window holds no junction, it runs out of the
 // window, the window leaves the image: motion blur, a corner at the border) is refined by
-// cv::cornerSubPix instead, as before this method.
+// cv::cornerSubPix instead, as before this method. `camera` (optional): the lens that took `grey`,
+// the whole image (options.undistorted).
 void refineCornersSubpixel(const cv::Mat& grey, int half_window, std::vector<cv::Point2f>& uv,
-                           const SubpixelCornerOptions& options);
+                           const SubpixelCornerOptions& options, const CameraModel* camera = nullptr);
 
 }  // namespace slamcmp

@@ -212,7 +212,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
       ids.push_back(i);
       uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
     }
-    refineCornersSubpixel(grey, half, uv, options_.detector.subpixel);
+    refineCornersSubpixel(grey, half, uv, options_.detector.subpixel, &camera_);
     out = keep(pred, ids, uv);
     // Most of the corners lost by the tracking: a board search where the filter predicts it.
     if (!search_first && static_cast<int>(out.observations.size()) * 2 < predicted && all_in_image)
@@ -287,7 +287,8 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   }
   if (ids.empty()) return {};
   std::nth_element(squares.begin(), squares.begin() + squares.size() / 2, squares.end());
-  refineCornersSubpixel(grey, refineHalfWindow(squares[squares.size() / 2]), uv, options_.detector.subpixel);
+  refineCornersSubpixel(grey, refineHalfWindow(squares[squares.size() / 2]), uv, options_.detector.subpixel,
+                        &camera_);
   // Gated one by one, then on the board plane with the corners already kept this frame.
   std::vector<int> all_ids = tracked_ids_;
   std::vector<Vec2> all_z;

@@ -205,7 +205,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
   if (static_cast<int>(c->ids.size()) < minCorners()) return false;
   const std::vector<cv::Point2f> start = c->uv;
   const int half = refineHalfWindow(subsetSpacing(target_, *c), options_.detector);
-  refineCornersSubpixel(grey, half, c->uv, options_.detector.subpixel);
+  refineCornersSubpixel(grey, half, c->uv, options_.detector.subpixel, &camera);
   // A corner the refinement moves far was not where tracking or the prediction put it (or is no
   // longer a corner): it is dropped, the rest stand.
   BoardCorners kept;
