@@ -58,6 +58,9 @@ class LocalUndistortion {
     const Vec2 xx = (mx1 - 2 * m0 + mx0) / h2, yy = (my1 - 2 * m0 + my0) / h2,
                xy = (m(kStep, kStep) - m(kStep, -kStep) - m(-kStep, kStep) + m(-kStep, -kStep)) / (4 * h2);
     for (int k = 0; k < 2; ++k) H_[k] << xx(k), xy(k), xy(k), yy(k);
+    // Beyond a fold of the lens (a camera file refuses one, core/distortion_fold.h) the model
+    // means nothing: the corner is fitted in the image.
+    if (!(A_.allFinite() && H_[0].allFinite() && H_[1].allFinite() && A_.determinant() > 0)) *this = {};
   }
   bool identity() const { return identity_; }
   // m(u, v) and its Jacobian dm/d(u, v), written out: the terms of every pixel of a window take
@@ -146,8 +149,9 @@ class GradientWindow {
       smooth_ = own_;
     }
     terms_.resize(static_cast<size_t>(side_) * side_);
-    // refineCorner reads the pixels within its radius of a corner within half a pixel of the
-    // centre: at most reach + 0.21 px from it.
+    // Only the pixels refineCorner reads: within its radius R <= reach - 0.5 of a corner at most
+    // sqrt(0.5) px from the centre, so at most reach + 0.21 px from it (the square's corners, a
+    // fifth of it, would take the lens's map for nothing).
     const double read2 = (reach + 0.25) * (reach + 0.25);
     for (int v = 0; v < side_; ++v)
       for (int u = 0; u < side_; ++u) {
@@ -159,10 +163,10 @@ class GradientWindow {
         const double gx = 0.5 * (row[u + 2] - row[u]), gy = 0.5 * (below[u + 1] - above[u + 1]);
         double gxx = gx * gx, gxy = gx * gy, gyy = gy * gy;
         if (!lens.identity()) {
-          // I(p) = I'(m(p)): the undistorted image's gradient points along J^-T g, h = adj(J)^T g
-          // (det J > 0). Its magnitude stays the image's: the blur is symmetric across each edge
-          // there, and a magnitude scaled by the lens (more on one side of an edge than on the
-          // other) pulls the corner across it: 0.008 px inwards on
+          // I(p) = I'(m(p)): the undistorted image's gradient points along J^-T g, as h = adj(J)^T g
+          // does; only its direction is kept. Its magnitude stays the image's: the blur is
+          // symmetric across each edge there, and a magnitude scaled by the lens (more on one side
+          // of an edge than on the other) pulls the corner across it: 0.008 px inwards on
           // EdgesBentByTheLensAreTakenStraight's corners, 0.0005 without.
           double m[2], J[2][2];
           lens.map(du, dv, m, J);
@@ -230,7 +234,7 @@ bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& op
     // undistorted image with a lens (the weights in the image).
     const double ox = qx - cx, oy = qy - cy;
     Mat2 J_o;
-    const Vec2 o = lens.map(Vec2(ox, oy), &J_o);
+    const Vec2 o_undistorted = lens.map(Vec2(ox, oy), &J_o);
     double a = 0, b = 0, c = 0, sx = 0, sy = 0;
     for (int dv = -reach; dv <= reach; ++dv) {
       const double dy = dv - oy;
@@ -248,14 +252,18 @@ bool refineCorner(const cv::Mat& grey, int half, const SubpixelCornerOptions& op
         sx += w * g.px, sy += w * g.py;
       }
     }
-    const double rx = sx - (a * o.x() + b * o.y()), ry = sy - (b * o.x() + c * o.y());
+    const double rx = sx - (a * o_undistorted.x() + b * o_undistorted.y()),
+                 ry = sy - (b * o_undistorted.x() + c * o_undistorted.y());
     const double det = a * c - b * b;
     // Both directions of gradient needed: a lone edge (or a flat window) places no corner. The
     // ratio is 0.25 at a right-angled junction, above 0.03 at a 20-degree one.
     if (!(det > kMinDeterminantOverTrace2 * (a + c) * (a + c))) return false;
-    const Vec2 o_new = o + Vec2((c * rx - b * ry) / det, (a * ry - b * rx) / det);
-    const Vec2 d_new = lens.unmap(o_new, Vec2(ox, oy) + J_o.inverse() * (o_new - o));
-    const double step_x = d_new.x() - ox, step_y = d_new.y() - oy;
+    double step_x = (c * rx - b * ry) / det, step_y = (a * ry - b * rx) / det;
+    if (!lens.identity()) {  // the step in the undistorted image, mapped back
+      const Vec2 o_new_undistorted = o_undistorted + Vec2(step_x, step_y);
+      const Vec2 d_new = lens.unmap(o_new_undistorted, Vec2(ox, oy) + J_o.inverse() * Vec2(step_x, step_y));
+      step_x = d_new.x() - ox, step_y = d_new.y() - oy;
+    }
     qx += step_x, qy += step_y;
     // Run out of its window: the junction was not where the corner started (on Bouguet's images a
     // weak window ran 80 px).
@@ -285,6 +293,7 @@ void refineCornersSubpixel(const cv::Mat& grey, int half_window, std::vector<cv:
   // grew: 0.36 px RMS at 1.5 px against 0.021 at 0.75): at most half the window beyond 1.5 px.
   GradientWindow window(image, std::clamp(0.5 * (half_window - 1.5), 0.0, options.smoothing_sigma_px));
   window.smoothAround(uv, reachOf(maxRadius(half_window)));
+  CV_Assert(!camera || (grey.cols == camera->width && grey.rows == camera->height));  // pixels are the camera's
   const CameraModel* undistorting = options.undistorted && camera && camera->hasDistortion() ? camera : nullptr;
   std::vector<cv::Point2f> unplaced;
   std::vector<size_t> where;

@@ -139,7 +139,7 @@ double BoardCornerTracker::refineMarginPx(const BoardCorners& corners) const {
 bool BoardCornerTracker::confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv,
                                  const CameraModel& camera) const {
   const std::vector<cv::Point2f> tracked = uv;
-  refineChessboardCorners(grey, target_, uv, options_.detector);
+  refineChessboardCorners(grey, target_, uv, options_.detector, &camera);
   for (size_t i = 0; i < uv.size(); ++i)
     if (cv::norm(uv[i] - tracked[i]) > options_.max_refine_shift_px) return false;
   // The grid must still be a plane seen through the lens: a homography from the board to the

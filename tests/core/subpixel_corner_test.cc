@@ -23,12 +23,16 @@ constexpr int kSize = 41;     // pixels
 constexpr int kSamples = 8;   // per pixel along each axis
 
 // A junction at `corner` (pixel coordinates, pixel centres at integers) of two lines at angles a
-// and b: opposite sectors dark (40) and bright (220), as a chessboard's corner.
-cv::Mat junction(const cv::Point2d& corner, double a, double b, double lens_blur_px = 0.7) {
+// and b: opposite sectors dark (40) and bright (220), as a chessboard's corner. With `lens`, the
+// lines are straight through `corner` in the undistorted image (its pixels) and seen through it.
+cv::Mat junction(const cv::Point2d& corner, double a, double b, double lens_blur_px = 0.7,
+                 const CameraModel* lens = nullptr) {
   cv::Mat fine(kSize * kSamples, kSize * kSamples, CV_32F);
   for (int r = 0; r < fine.rows; ++r)
     for (int c = 0; c < fine.cols; ++c) {
-      const double x = (c + 0.5) / kSamples - 0.5 - corner.x, y = (r + 0.5) / kSamples - 0.5 - corner.y;
+      Vec2 p((c + 0.5) / kSamples - 0.5, (r + 0.5) / kSamples - 0.5);
+      if (lens) p = lens->undistortToPixel(p);
+      const double x = p.x() - corner.x, y = p.y() - corner.y;
       const bool side_a = std::cos(a) * y - std::sin(a) * x > 0, side_b = std::cos(b) * y - std::sin(b) * x > 0;
       fine.at<float>(r, c) = side_a == side_b ? 40.f : 220.f;
     }
@@ -187,27 +191,9 @@ CameraModel strongLensCrop(const cv::Point& origin) {
   return c;
 }
 
-// A junction as the lens images it: lines at angles a and b through `corner` in the undistorted
-// image (crop pixels), seen through `camera`, then blurred and integrated as junction() does.
-cv::Mat junctionThroughLens(const CameraModel& camera, const Vec2& corner, double a, double b) {
-  cv::Mat fine(kSize * kSamples, kSize * kSamples, CV_32F);
-  for (int r = 0; r < fine.rows; ++r)
-    for (int c = 0; c < fine.cols; ++c) {
-      const Vec2 d = camera.undistortToPixel(Vec2((c + 0.5) / kSamples - 0.5, (r + 0.5) / kSamples - 0.5)) - corner;
-      const bool side_a = std::cos(a) * d.y() - std::sin(a) * d.x() > 0, side_b = std::cos(b) * d.y() - std::sin(b) * d.x() > 0;
-      fine.at<float>(r, c) = side_a == side_b ? 40.f : 220.f;
-    }
-  cv::GaussianBlur(fine, fine, cv::Size(), 0.7 * kSamples);
-  cv::Mat pixels;
-  cv::resize(fine, pixels, cv::Size(kSize, kSize), 0, 0, cv::INTER_AREA);
-  cv::Mat grey;
-  pixels.convertTo(grey, CV_8U);
-  return grey;
-}
-
 // Corners 170-230 px from the centre of a strongly distorting lens: the lens bends the edges
 // within the window, and the fit in the image leans outwards; taken straight in the undistorted
-// image, the corners are as unbiased as without a lens.
+// image, a tenth of that is left.
 TEST(SubpixelCorner, EdgesBentByTheLensAreTakenStraight) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> unit(0, 1), angle(0, M_PI), opening(1.2, 1.9), start(-0.5, 0.5);
@@ -222,7 +208,7 @@ TEST(SubpixelCorner, EdgesBentByTheLensAreTakenStraight) {
     const Vec2 truth(20 + unit(rng), 20 + unit(rng));
     const Vec2 corner = lens.undistortToPixel(truth);
     const double a = angle(rng);
-    const cv::Mat grey = junctionThroughLens(lens, corner, a, a + opening(rng));
+    const cv::Mat grey = junction({corner.x(), corner.y()}, a, a + opening(rng), 0.7, &lens);
     const cv::Point2f first(static_cast<float>(truth.x() + start(rng)), static_cast<float>(truth.y() + start(rng)));
     std::vector<cv::Point2f> in_image{first}, undistorted{first};
     SubpixelCornerOptions options = withMethod("gradient");
@@ -230,7 +216,8 @@ TEST(SubpixelCorner, EdgesBentByTheLensAreTakenStraight) {
     options.undistorted = false;
     refineCornersSubpixel(grey, 7, in_image, options, &lens);
     const Vec2 out(std::cos(bearing), std::sin(bearing));
-    const Vec2 e_image = Vec2(in_image[0].x, in_image[0].y) - truth, e = Vec2(undistorted[0].x, undistorted[0].y) - truth;
+    const Vec2 e_image = Vec2(in_image[0].x, in_image[0].y) - truth;
+    const Vec2 e = Vec2(undistorted[0].x, undistorted[0].y) - truth;
     outward_in_image += e_image.dot(out) / n;
     outward_undistorted += e.dot(out) / n;
     sum2_undistorted += e.squaredNorm();
@@ -238,11 +225,13 @@ TEST(SubpixelCorner, EdgesBentByTheLensAreTakenStraight) {
   }
   const double rms_in_image = std::sqrt(sum2_in_image / (2 * n)), rms = std::sqrt(sum2_undistorted / (2 * n));
   // Measured: 0.0050 px outwards in the image (0.0063 px RMS per axis), 0.0005 px inwards taken
-  // straight (0.0052 px RMS).
-  EXPECT_GT(outward_in_image, 0.003) << "the bias this removes";
-  EXPECT_LT(std::abs(outward_undistorted), 0.2 * outward_in_image);
+  // straight (0.0052 px RMS). Over other seeds of the junctions (1-13) the mean of 64 scatters by
+  // 0.0004-0.0011 px (phase and 8 bits): the shift between the two, on the same images, is
+  // 0.0055-0.0057 px on every seed, and what is left taken straight at most 0.0020.
+  EXPECT_GT(outward_in_image - outward_undistorted, 0.004) << "the bias this removes";
+  EXPECT_LT(std::abs(outward_undistorted), 0.0025);
   EXPECT_LT(rms, rms_in_image);
-  EXPECT_LT(rms, 0.008);
+  EXPECT_LT(rms, 0.01);
 }
 
 TEST(SubpixelCorner, OptionsAreChecked) {

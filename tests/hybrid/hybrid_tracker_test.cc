@@ -26,7 +26,9 @@ using test::TempDir;
 struct FrameScore {
   int corners_in_view = 0;  // board corners the true pose puts inside the image
   std::optional<double> error;  // position error of the reported pose, metres
-  std::optional<double> depth_error;  // its part along the reported camera's optical axis, signed, metres
+  // The truth's position less the reported one along the reported camera's optical axis, metres:
+  // negative when the camera is put too near what it looks at.
+  std::optional<double> depth_error;
   double path_since_board = 0;  // metres the camera travelled since it last saw a corner
   std::string reason;
   // Issue 14's bound on the error while the board is away: max(5 mm, 1 % of the path since).
