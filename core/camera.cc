@@ -93,9 +93,9 @@ Vec2 CameraModel::distort(const Vec2& xy, Mat2* J) const {
   return out;
 }
 
-Vec2 CameraModel::undistort(const Vec2& xy_distorted) const {
+Vec2 CameraModel::undistort(const Vec2& xy_distorted, const Vec2* start) const {
   if (!hasDistortion()) return xy_distorted;
-  Vec2 xy = xy_distorted;
+  Vec2 xy = start ? *start : xy_distorted;
   for (int it = 0; it < 20; ++it) {
     Mat2 J;
     const Vec2 r = distort(xy, &J) - xy_distorted;

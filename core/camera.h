@@ -27,8 +27,9 @@ struct CameraModel {
 
   // Normalised pinhole coordinates -> distorted normalised coordinates; J = d xy_distorted / d xy.
   Vec2 distort(const Vec2& xy_undistorted, Mat2* J = nullptr) const;
-  // Inverse of distort by Gauss-Newton (a few iterations; exact to ~1e-12 inside the image).
-  Vec2 undistort(const Vec2& xy_distorted) const;
+  // Inverse of distort by Gauss-Newton (a few iterations; exact to ~1e-12 inside the image), from
+  // `start` if given (a point near the answer: fewer iterations), else from xy_distorted.
+  Vec2 undistort(const Vec2& xy_distorted, const Vec2* start = nullptr) const;
 
   Vec2 pixelFromNormalised(const Vec2& xy) const;
   Vec2 normalisedFromPixel(const Vec2& uv) const;

@@ -40,7 +40,7 @@ struct SubpixelCornerOptions {
   // outwards under barrel distortion: roll_distortion's corners (k1 -0.32) sat 0.0036 / 0.0056 px
   // out at 75 / 125 px from the centre, so the board looked 7e-5 too large and hybrid's camera
   // sat 32 um too near it in every frame, 3 times its std (0.0001 px and 0.1 um taken straight;
-  // tv1's k1 -0.1: 0.0016 px, 8 um). 45 % more per corner (bench_stages BM_CornerRefinement).
+  // tv1's k1 -0.1: 0.0016 px, 8 um). 55 % more per corner (bench_stages BM_CornerRefinement).
   bool undistorted = true;
   template <class V>
   void visit(V& v) {
