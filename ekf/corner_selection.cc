@@ -1,16 +1,27 @@
 #include "ekf/corner_selection.h"
 
+#include <optional>
+
 #include <opencv2/imgproc.hpp>
 
 namespace slamcmp {
 
+namespace {
+
+constexpr int kCornersPerBox = 4;
+constexpr int kCornerSeparationPx = 5;  // corners of one box tried apart by at least this
+
+}  // namespace
+
 bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
-                         const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv) {
+                         const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv,
+                         const std::function<bool(const Vec2&)>& preferred) {
   const int w = options.box_width, h = options.box_height;
   const int max_x = grey.cols - margin - w, max_y = grey.rows - margin - h;
   if (max_x < margin || max_y < margin) return false;
   std::uniform_int_distribution<int> ux(margin, max_x), uy(margin, max_y);
   constexpr int kTries = 10;
+  std::optional<Vec2> fallback;  // the first free box's strongest corner, none preferred
   for (int attempt = 0; attempt < kTries; ++attempt) {
     const cv::Rect box(ux(rng), uy(rng), w, h);
     bool free = true;
@@ -24,14 +35,39 @@ bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
     if (!free) continue;
     cv::Mat eig;
     cv::cornerMinEigenVal(grey(box), eig, 3);
-    double best;
-    cv::Point where;
-    cv::minMaxLoc(eig, nullptr, &best, nullptr, &where);
-    if (best < options.min_corner_eigenvalue) continue;
-    *uv = Vec2(box.x + where.x, box.y + where.y);
-    return true;
+    for (int k = 0; k < (preferred ? kCornersPerBox : 1); ++k) {
+      double best;
+      cv::Point where;
+      cv::minMaxLoc(eig, nullptr, &best, nullptr, &where);
+      if (best < options.min_corner_eigenvalue) break;
+      const Vec2 corner(box.x + where.x, box.y + where.y);
+      if (!preferred || preferred(corner)) {
+        *uv = corner;
+        return true;
+      }
+      if (!fallback) fallback = corner;
+      cv::circle(eig, where, kCornerSeparationPx, cv::Scalar(0), cv::FILLED);
+    }
   }
-  return false;
+  if (fallback) *uv = *fallback;
+  return fallback.has_value();
+}
+
+bool hasNoLookAlike(const cv::Mat& grey, const Vec2& uv, int patch_size, int radius, double min_ncc) {
+  const int half = patch_size / 2;
+  const cv::Point centre(static_cast<int>(std::lround(uv.x())), static_cast<int>(std::lround(uv.y())));
+  const cv::Rect image(0, 0, grey.cols, grey.rows);
+  const cv::Rect patch(centre.x - half, centre.y - half, patch_size, patch_size);
+  if ((patch & image) != patch) return false;
+  const cv::Rect region = cv::Rect(centre.x - radius - half, centre.y - radius - half, 2 * (radius + half) + 1,
+                                   2 * (radius + half) + 1) & image;
+  cv::Mat ncc;
+  cv::matchTemplate(grey(region), grey(patch), ncc, cv::TM_CCOEFF_NORMED);
+  // The places that would be accepted, less the connected peak the patch itself sits in.
+  cv::Mat accepted = ncc >= min_ncc;
+  const cv::Point self(patch.x - region.x, patch.y - region.y);
+  cv::floodFill(accepted, self, cv::Scalar(0));
+  return cv::countNonZero(accepted) == 0;
 }
 
 }  // namespace slamcmp

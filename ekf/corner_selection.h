@@ -1,6 +1,7 @@
 #pragma once
 // Where a new feature starts (Davison et al. 2007, section 3.6): the strongest Shi-Tomasi corner in
 // an image box that holds no feature yet.
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -14,8 +15,17 @@ namespace slamcmp {
 // Tries boxes of box_width x box_height at random positions (rng: reproducible runs), at least
 // `margin` pixels from the border, keeps the first that contains none of `occupied` (feature
 // pixels, with a half-box clearance around the box), and returns its strongest corner if its
-// minimum eigenvalue reaches min_corner_eigenvalue. False if no free box had one.
+// minimum eigenvalue reaches min_corner_eigenvalue. With `acceptable` given, the box's strongest
+// corners are tried in turn (up to kCornersPerBox) and the first it accepts is returned. False if
+// no free box had one.
 bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
-                         const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv);
+                         const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv,
+                         const std::function<bool(const Vec2&)>& acceptable = nullptr);
+
+// Whether the patch_size template at uv has no look-alike within `radius` pixels: no place there,
+// apart from the peak around uv itself, correlates with it (normalised) at min_ncc or more, where
+// the active search would accept it. A chessboard's corners repeat every two squares; a feature
+// placed on one is matched a square or two off in its first, widest searches (board-free start).
+bool hasNoLookAlike(const cv::Mat& grey, const Vec2& uv, int patch_size, int radius, double min_ncc);
 
 }  // namespace slamcmp

@@ -55,6 +55,15 @@ void ActiveSearchOptions::checkImage(cv::Size image) const {
   requireWithinImage("source_size", source_size, std::min(image.width, image.height), image);
 }
 
+namespace {
+
+// An option resolved by usesOption: "auto" follows the start (on without a board).
+void requireUse(const std::string& field, const std::string& use) {
+  require(use == "auto" || use == "on" || use == "off", field, "must be auto, on or off, got '" + use + "'");
+}
+
+}  // namespace
+
 void FeatureInitOptions::check() const {
   // Each initialising ray holds and weighs all of them every frame.
   require(particles >= 2 && particles <= 100000, "particles", "must be in [2, 100000]");
@@ -70,6 +79,8 @@ void FeatureInitOptions::check() const {
   require(min_visible >= 0, "min_visible", "must not be negative");
   require(box_width >= 16 && box_height >= 16, "box_width", "boxes must be at least 16x16");
   require(min_corner_eigenvalue >= 0, "min_corner_eigenvalue", "must not be negative");
+  requireUse("distinct", distinct);
+  require(distinct_radius >= 1 && distinct_radius <= 1000, "distinct_radius", "must be in [1, 1000] pixels");
 }
 
 void FeatureInitOptions::checkImage(cv::Size image) const {
@@ -110,16 +121,8 @@ void ReportingOptions::check() const {
 
 // Board-free start (issue 18).
 
-namespace {
-
-void requireUse(const std::string& use) {
-  require(use == "auto" || use == "on" || use == "off", "use", "must be auto, on or off, got '" + use + "'");
-}
-
-}  // namespace
-
 void InverseDepthOptions::check() const {
-  requireUse(use);
+  requireUse("use", use);
   require(rho0 > 0, "rho0", "must be positive");
   require(rho_sigma > 0, "rho_sigma", "must be positive");
   require(scale_gauge_sigma >= 0, "scale_gauge_sigma", "must be >= 0");
@@ -128,7 +131,7 @@ void InverseDepthOptions::check() const {
 }
 
 void OnePointRansacOptions::check() const {
-  requireUse(use);
+  requireUse("use", use);
   require(inlier_pixels > 0, "inlier_pixels", "must be positive");
   require(probability > 0 && probability < 1, "probability", "must be in (0, 1)");
   require(max_hypotheses >= 1, "max_hypotheses", "must be at least 1");

@@ -34,12 +34,14 @@ EkfSlam::EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool 
       options_(options),
       inverse_depth_(usesOption(options.inverse_depth.use, board_free)),
       board_free_(board_free),
-      ransac_(usesOption(options.ransac.use, board_free)) {
+      ransac_(usesOption(options.ransac.use, board_free)),
+      distinct_(usesOption(options.feature_init.distinct, board_free)) {
   if (relocalisation && relocalisation->enabled) relocaliser_ = std::make_unique<Relocaliser>(*relocalisation);
 }
 
 void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
   state_.reset(T_world_camera, P_camera);
+  search_reach_px_ = std::numeric_limits<double>::infinity();
   motion_noise_.restart();
   features_.clear();
   scale_gauge_pending_ = board_free_ && inverse_depth_ && options_.inverse_depth.scale_gauge_sigma > 0;
@@ -71,7 +73,16 @@ void EkfSlam::predict(double dt) {
 }
 
 FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
-  return measureFeatures(state_, features_, camera_, grey, options_.search, ransac_ ? &options_.ransac : nullptr, &rng_);
+  FrameMeasurement m =
+      measureFeatures(state_, features_, camera_, grey, options_.search, ransac_ ? &options_.ransac : nullptr, &rng_);
+  if (distinct_) {
+    double reach = 0;  // the widest search's 3-sigma half axis
+    for (const FeatureSearch& f : m.features)
+      if (f.outcome != SearchOutcome::Unmeasured)
+        reach = std::max(reach, options_.search.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(f.S).eigenvalues()(1)));
+    if (reach > 0) search_reach_px_ = reach;
+  }
+  return m;
 }
 
 void EkfSlam::updateMap(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear) {
@@ -165,7 +176,20 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
   const FeatureInitOptions& fo = options_.feature_init;
   Vec2 uv;
   const int margin = options_.search.source_size / 2 + 1;
-  if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv)) return false;
+  // Without a board the first searches are wide: a corner with a look-alike where the searches
+  // reach (the last frame's widest, at most distinct_radius), or too flat a patch to search with
+  // (refused below), is taken only when no free box offers a better one.
+  const int size = options_.search.patch_size;
+  const int radius = static_cast<int>(std::min<double>(fo.distinct_radius, std::ceil(search_reach_px_)));
+  const auto distinct = [&](const Vec2& corner) {
+    if (!hasNoLookAlike(grey, corner, size, radius, options_.search.min_ncc)) return false;
+    const cv::Rect patch(static_cast<int>(std::lround(corner.x())) - size / 2,
+                         static_cast<int>(std::lround(corner.y())) - size / 2, size, size);
+    return patchStdDev(grey(patch)) >= options_.search.min_patch_stddev;
+  };
+  if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv,
+                           distinct_ ? distinct : std::function<bool(const Vec2&)>()))
+    return false;
   MapFeature f;
   if (!makePatchSource(grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||
       !sourceTemplate(f.source, options_.search.patch_size, &f.ray_template) ||

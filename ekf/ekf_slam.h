@@ -4,6 +4,7 @@
 // depth-particle rays in free image boxes and pruned of features that fail. A back-end decides when
 // it starts and what else it measures (monoslam: four board corners in the state; hybrid: every
 // board corner as a known landmark).
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>
@@ -124,12 +125,16 @@ class EkfSlam {
   bool board_free_ = false;
   bool scale_gauge_pending_ = false;  // board-free: the first features' mean inverse depth not yet fixed
   bool ransac_ = false;         // 1-point RANSAC instead of joint compatibility
+  bool distinct_ = false;       // new corners preferably without look-alikes (feature_init.distinct)
   EkfState state_;
   AdaptiveMotionNoise motion_noise_{options_.motion};
   std::vector<MapFeature> features_;
   int next_id_ = 0;
   int protected_below_ = 0;
   std::unique_ptr<Relocaliser> relocaliser_;  // when relocalisation is used
+  // How far the last frame's searches reached (3-sigma half axis, pixels; with distinct_),
+  // unbounded before any.
+  double search_reach_px_ = std::numeric_limits<double>::infinity();
   std::mt19937 rng_{static_cast<std::mt19937::result_type>(options_.feature_init.seed)};
 };
 
