@@ -1,5 +1,6 @@
 // Per-frame cost of each back-end (and cslam mode) through the Tracker interface, image decoding
-// excluded, and the cost of decoding the same frames: the figures of the thesis's Table 3.2.
+// excluded, and the cost of decoding the same frames: the figures of the thesis's Table 3.2. A
+// back-end that takes --init also runs started without the board (BM_Track/<backend>@none).
 //
 //   build/benchmarks/bench_tracking [--benchmark_filter=cslam]
 //
@@ -25,7 +26,7 @@
 namespace slamcmp {
 namespace {
 
-void BM_Track(benchmark::State& state, const BackendRegistration* backend, const BackendMode* mode) {
+void BM_Track(benchmark::State& state, const BackendRegistration* backend, const BackendMode* mode, InitSource init) {
   cv::setNumThreads(1);  // one core, as Table 3.2 is quoted
   const BenchSequence& b = defaultRenderedSequence();
   TrackerContext context;
@@ -33,6 +34,7 @@ void BM_Track(benchmark::State& state, const BackendRegistration* backend, const
   context.target = b.seq.target;
   context.mode = mode->name;
   context.image_size = b.seq.image_size;
+  context.init = init;
   std::unique_ptr<BackendOptions> options;
   try {  // the back-end's defaults, or as `slamcmp run --config` reads SLAMCMP_BENCH_CONFIG's file
     const char* config = std::getenv("SLAMCMP_BENCH_CONFIG");
@@ -52,7 +54,8 @@ void BM_Track(benchmark::State& state, const BackendRegistration* backend, const
     }
     benchmark::DoNotOptimize(tracker->track(b.frames[i++]));
   }
-  state.SetLabel(mode->thesis_method);  // bench_report's Table 3.2 column, without linking the back-ends
+  // bench_report's Table 3.2 column, without linking the back-ends (the thesis started from the board)
+  state.SetLabel(init == InitSource::Board ? mode->thesis_method : "");
   state.counters["frames_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()),
                                                       benchmark::Counter::kIsRate);
 }
@@ -67,14 +70,17 @@ void BM_DecodeFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeFrame)->Unit(benchmark::kMillisecond);
 
-// One benchmark per registered back-end and mode: BM_Track/<backend>[/<mode> when it has several].
+// One benchmark per registered back-end and mode: BM_Track/<backend>[/<mode> when it has several],
+// and BM_Track/<backend>@none for those that take --init.
 const bool registered = [] {
   for (const BackendRegistration& b : backends())
     for (const BackendMode& m : b.modes)
-      benchmark::RegisterBenchmark(("BM_Track/" + b.name + (b.modes.size() > 1 ? "/" + m.name : "")).c_str(),
-                                   BM_Track, &b, &m)
-          ->Unit(benchmark::kMillisecond)
-          ->MinTime(2.0);
+      for (const InitSource init : {InitSource::Board, InitSource::None}) {
+        if (init == InitSource::None && !b.takes_init) continue;
+        const std::string name = "BM_Track/" + b.name + (init == InitSource::None ? "@none" : "") +
+                                 (b.modes.size() > 1 ? "/" + m.name : "");
+        benchmark::RegisterBenchmark(name.c_str(), BM_Track, &b, &m, init)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+      }
   return true;
 }();
 

@@ -15,13 +15,14 @@ constexpr int kCornerSeparationPx = 5;  // corners of one box tried apart by at 
 
 bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
                          const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv,
-                         const std::function<bool(const Vec2&)>& preferred) {
+                         const std::function<bool(const Vec2&)>& preferred,
+                         const std::function<bool(const Vec2&)>& usable) {
   const int w = options.box_width, h = options.box_height;
   const int max_x = grey.cols - margin - w, max_y = grey.rows - margin - h;
   if (max_x < margin || max_y < margin) return false;
   std::uniform_int_distribution<int> ux(margin, max_x), uy(margin, max_y);
   constexpr int kTries = 10;
-  std::optional<Vec2> fallback;  // the first free box's strongest corner, none preferred
+  std::optional<Vec2> fallback;  // the first usable corner met, when none is preferred
   for (int attempt = 0; attempt < kTries; ++attempt) {
     const cv::Rect box(ux(rng), uy(rng), w, h);
     bool free = true;
@@ -41,11 +42,17 @@ bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
       cv::minMaxLoc(eig, nullptr, &best, nullptr, &where);
       if (best < options.min_corner_eigenvalue) break;
       const Vec2 corner(box.x + where.x, box.y + where.y);
-      if (!preferred || preferred(corner)) {
+      if (!preferred) {
         *uv = corner;
         return true;
       }
-      if (!fallback) fallback = corner;
+      if (!usable || usable(corner)) {
+        if (preferred(corner)) {
+          *uv = corner;
+          return true;
+        }
+        if (!fallback) fallback = corner;
+      }
       cv::circle(eig, where, kCornerSeparationPx, cv::Scalar(0), cv::FILLED);
     }
   }

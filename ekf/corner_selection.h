@@ -15,17 +15,21 @@ namespace slamcmp {
 // Tries boxes of box_width x box_height at random positions (rng: reproducible runs), at least
 // `margin` pixels from the border, keeps the first that contains none of `occupied` (feature
 // pixels, with a half-box clearance around the box), and returns its strongest corner if its
-// minimum eigenvalue reaches min_corner_eigenvalue. With `acceptable` given, the box's strongest
-// corners are tried in turn (up to kCornersPerBox) and the first it accepts is returned. False if
-// no free box had one.
+// minimum eigenvalue reaches min_corner_eigenvalue. With `preferred` given, each free box's four
+// strongest corners are tried in turn, those that are not `usable` (if given) skipped, and the
+// first preferred one is returned; failing that, the first usable one met. False if no free box
+// had a (usable) corner.
 bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
                          const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv,
-                         const std::function<bool(const Vec2&)>& acceptable = nullptr);
+                         const std::function<bool(const Vec2&)>& preferred = nullptr,
+                         const std::function<bool(const Vec2&)>& usable = nullptr);
 
-// Whether the patch_size template at uv has no look-alike within `radius` pixels: no place there,
-// apart from the peak around uv itself, correlates with it (normalised) at min_ncc or more, where
-// the active search would accept it. A chessboard's corners repeat every two squares; a feature
-// placed on one is matched a square or two off in its first, widest searches (board-free start).
+// Whether the patch_size template at uv has no look-alike in the square window of half-side
+// `radius` pixels around it: no place there, apart from the connected peak around uv itself,
+// correlates with it (normalised) at min_ncc or more, where the active search would accept it. A
+// chessboard's corners repeat a square away diagonally; a feature placed on one is matched a
+// square off in the first, widest searches of a board-free start. False if the template leaves
+// the image.
 bool hasNoLookAlike(const cv::Mat& grey, const Vec2& uv, int patch_size, int radius, double min_ncc);
 
 }  // namespace slamcmp

@@ -76,10 +76,9 @@ FrameMeasurement EkfSlam::measure(const cv::Mat& grey) {
   FrameMeasurement m =
       measureFeatures(state_, features_, camera_, grey, options_.search, ransac_ ? &options_.ransac : nullptr, &rng_);
   if (distinct_) {
-    double reach = 0;  // the widest search's 3-sigma half axis
+    double reach = 0;  // the widest search's
     for (const FeatureSearch& f : m.features)
-      if (f.outcome != SearchOutcome::Unmeasured)
-        reach = std::max(reach, options_.search.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(f.S).eigenvalues()(1)));
+      if (f.outcome != SearchOutcome::Unmeasured) reach = std::max(reach, f.half_axis);
     if (reach > 0) search_reach_px_ = reach;
   }
   return m;
@@ -176,19 +175,22 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
   const FeatureInitOptions& fo = options_.feature_init;
   Vec2 uv;
   const int margin = options_.search.source_size / 2 + 1;
-  // Without a board the first searches are wide: a corner with a look-alike where the searches
-  // reach (the last frame's widest, at most distinct_radius), or too flat a patch to search with
-  // (refused below), is taken only when no free box offers a better one.
+  // Without a board the first searches are wide: a corner with a look-alike where they reach (the
+  // last frame's widest, at most distinct_radius) is taken only when no free box offers one
+  // without. Too flat a patch is refused below; with a choice of corners it is passed over here.
   const int size = options_.search.patch_size;
   const int radius = static_cast<int>(std::min<double>(fo.distinct_radius, std::ceil(search_reach_px_)));
   const auto distinct = [&](const Vec2& corner) {
-    if (!hasNoLookAlike(grey, corner, size, radius, options_.search.min_ncc)) return false;
+    return hasNoLookAlike(grey, corner, size, radius, options_.search.min_ncc);
+  };
+  const auto textured = [&](const Vec2& corner) {
     const cv::Rect patch(static_cast<int>(std::lround(corner.x())) - size / 2,
                          static_cast<int>(std::lround(corner.y())) - size / 2, size, size);
-    return patchStdDev(grey(patch)) >= options_.search.min_patch_stddev;
+    return (patch & cv::Rect(0, 0, grey.cols, grey.rows)) == patch &&
+           patchStdDev(grey(patch)) >= options_.search.min_patch_stddev;
   };
   if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv,
-                           distinct_ ? distinct : std::function<bool(const Vec2&)>()))
+                           distinct_ ? distinct : std::function<bool(const Vec2&)>(), textured))
     return false;
   MapFeature f;
   if (!makePatchSource(grey, uv, options_.search.source_size, state_.T_world_camera(), &f.source) ||

@@ -54,7 +54,7 @@ void visitFilterOptions(V& v, EkfSlamOptions& o) {
 class EkfSlam {
  public:
   // board_free: the map starts from nothing (`--init none`), which turns the "auto" of
-  // inverse_depth.use and ransac.use on. relocalisation (enabled): features keep descriptors and
+  // inverse_depth.use, ransac.use and feature_init.distinct on. relocalisation (enabled): features keep descriptors and
   // relocalise() can find a lost camera again.
   EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free = false,
           const RelocalisationOptions* relocalisation = nullptr);
@@ -115,7 +115,8 @@ class EkfSlam {
   void fixScaleGauge();
   void updateRays(const cv::Mat& grey);
   void convertLinearFeatures();
-  // A new feature at the strongest corner of a free box (a ray, or in inverse depth); false if none.
+  // A new feature at the strongest corner of a free box, or without a board the strongest with no
+  // look-alike (a ray, or in inverse depth); false if none.
   bool addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied);
   void pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<Vec2>& keep_clear);
 

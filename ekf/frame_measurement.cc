@@ -127,8 +127,8 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     s.index = i;
     s.uv_predicted = h.uv_distorted;
     s.S = pointInnovationCovariance(state, h, f.offset, so.pixel_sigma);
-    const double max_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
-    if (max_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
+    s.half_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
+    if (s.half_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
     out.features.push_back(s);
     h_visible.push_back(h);
   }

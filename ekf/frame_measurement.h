@@ -25,6 +25,7 @@ struct FeatureSearch {
   size_t index = 0;                    // into the feature list
   Vec2 uv_predicted = Vec2::Zero();    // prior prediction, distorted pixels
   Mat2 S = Mat2::Identity();           // its innovation covariance, pixels^2
+  double half_axis = 0;                // its search ellipse's half major axis (sigma_gate), pixels
   SearchOutcome outcome = SearchOutcome::Unmeasured;
   Vec2 uv_matched = Vec2::Zero();      // the measurement, when Matched
 };

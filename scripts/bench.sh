@@ -35,7 +35,8 @@ run_bench bench_stages    # renders tv1 (120 frames) and board_leaves (160) into
 run_bench bench_monoslam
 run_bench bench_tracking
 
-# The back-ends and modes as bench_tracking registers them from the registry: BM_Track/<backend>[/<mode>].
+# The back-ends and modes as bench_tracking registers them from the registry:
+# BM_Track/<backend>[@none][/<mode>] (@none: started without the board, `--init none`).
 mapfile -t METHODS < <("$BENCH/bench_tracking" --benchmark_list_tests | sed -n 's|^BM_Track/||p' | sed 's|/min_time:.*||')
 
 # Whole runs on the whole tv1 (337 frames) that BM_DecodeSequence decoded, each against a process
@@ -59,7 +60,9 @@ for cores in 1 "$(nproc)"; do
     for what in "${METHODS[@]}"; do
       mode_args=()
       [[ $what == */* ]] && mode_args=(--mode "${what#*/}")
-      timed "$what" "$cores" "${pin[@]}" "$SLAMCMP" run --backend "${what%%/*}" "${mode_args[@]}" \
+      backend=${what%%/*}
+      [[ $backend == *@none ]] && mode_args+=(--init none) && backend=${backend%@none}
+      timed "$what" "$cores" "${pin[@]}" "$SLAMCMP" run --backend "$backend" "${mode_args[@]}" \
         --sequence "$SEQUENCE" --out "$WORK/run"
     done
   done

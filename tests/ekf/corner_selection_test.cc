@@ -29,7 +29,8 @@ TEST(CornerSelection, AChessboardCornerHasLookAlikesASquareAway) {
   const int square = 30;
   const cv::Mat grey = chessboard(cv::Size(400, 300), 50, 50, square);
   const Vec2 inner(50 + 3 * square, 50 + 2 * square);  // an inner corner, its neighbours all around
-  // The same corner repeats a square away diagonally (and two along a row).
+  // The same corner repeats a square away diagonally (and two along a row): inside a square window
+  // of half-side a little over a square.
   EXPECT_FALSE(hasNoLookAlike(grey, inner, kPatch, square + 2, kMinNcc));
   // Nearer than that only the corner's own peak correlates.
   EXPECT_TRUE(hasNoLookAlike(grey, inner, kPatch, square - 8, kMinNcc));
@@ -42,6 +43,9 @@ TEST(CornerSelection, ALoneCornerHasNone) {
   cv::GaussianBlur(grey, grey, cv::Size(0, 0), 0.7);
   // Its rectangle's other corners are the same edges turned: none correlates at min_ncc.
   EXPECT_TRUE(hasNoLookAlike(grey, Vec2(200, 150), kPatch, 100, kMinNcc));
+  // Beside the border the window is cut short, the corner's own peak still found and passed over.
+  cv::rectangle(grey, cv::Rect(8, 150, 40, 40), cv::Scalar(200), cv::FILLED);
+  EXPECT_TRUE(hasNoLookAlike(grey, Vec2(8, 150), kPatch, 30, kMinNcc));
   // A patch that leaves the image has no template to look with.
   EXPECT_FALSE(hasNoLookAlike(grey, Vec2(3, 150), kPatch, 30, kMinNcc));
 }
@@ -68,8 +72,16 @@ TEST(CornerSelection, TriesTheBoxsCornersInTurnAndFallsBackToTheStrongest) {
   const Vec2 next = strongest([&](const Vec2& uv) { return (uv - first).norm() > 3; });
   EXPECT_GT((next - first).norm(), 3);
   EXPECT_TRUE(onTheGrid(next));
-  // All refused: the strongest all the same (a corner with look-alikes beats none).
-  EXPECT_LT((strongest([](const Vec2&) { return false; }) - first).norm(), 1e-9);
+  // None preferred: the strongest all the same (a corner with look-alikes beats none)...
+  const auto none = [](const Vec2&) { return false; };
+  EXPECT_LT((strongest(none) - first).norm(), 1e-9);
+  // ...that is usable: one that is not is passed over.
+  std::mt19937 rng(0);
+  Vec2 uv;
+  ASSERT_TRUE(findCornerInFreeBox(grey, {}, options, 21, rng, &uv, none,
+                                  [&](const Vec2& corner) { return (corner - first).norm() > 3; }));
+  EXPECT_GT((uv - first).norm(), 3);
+  EXPECT_TRUE(onTheGrid(uv));
 }
 
 }  // namespace
