@@ -54,8 +54,8 @@ void visitFilterOptions(V& v, EkfSlamOptions& o) {
 class EkfSlam {
  public:
   // board_free: the map starts from nothing (`--init none`), which turns the "auto" of
-  // inverse_depth.use, ransac.use and feature_init.distinct on. relocalisation (enabled): features keep descriptors and
-  // relocalise() can find a lost camera again.
+  // inverse_depth.use, ransac.use and feature_init.distinct on. relocalisation (enabled): features
+  // keep descriptors and relocalise() can find a lost camera again.
   EkfSlam(const CameraModel& camera, const EkfSlamOptions& options, bool board_free = false,
           const RelocalisationOptions* relocalisation = nullptr);
 
