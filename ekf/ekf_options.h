@@ -111,12 +111,12 @@ struct FeatureInitOptions {
   int box_height = 60;             // pixels
   double min_corner_eigenvalue = 0.002;  // Shi-Tomasi minimum eigenvalue (OpenCV scale, 3x3 block)
   int seed = 0;                    // the boxes are drawn at random from this seed (repeatable runs)
-  // A corner whose patch has a look-alike near it (a chessboard's corners, every two squares) is
-  // matched there in the first, widest searches of a board-free start, which then takes the
-  // look-alike's offset for motion. Off for the SceneLib baseline, whose board start keeps its
-  // searches small.
+  // A corner whose patch has a look-alike near it (a chessboard's corners, a square away
+  // diagonally) is matched there in the first, widest searches of a board-free start, which then
+  // takes the look-alike's offset for motion: such corners are taken only when no free box offers
+  // one without. Off for the SceneLib baseline, whose board start keeps its searches small.
   std::string distinct = "auto";   // auto (on with --init none) | on | off
-  int distinct_radius = 30;        // pixels, how far from a new corner a look-alike is looked for
+  int distinct_radius = 30;        // pixels, the most a look-alike is looked for away (the searches' reach)
   template <class V>
   void visit(V& v) {
     v("particles", particles, "depth hypotheses along a new feature's ray");
@@ -133,9 +133,10 @@ struct FeatureInitOptions {
     v("min_corner_eigenvalue", min_corner_eigenvalue, "Shi-Tomasi minimum eigenvalue (OpenCV scale)");
     v("seed", seed, "random seed of the boxes searched for new corners (runs are repeatable)");
     v("distinct", distinct,
-      "auto (on with --init none) | on | off: a new corner's patch must have no look-alike (a place the search "
-      "would accept) within distinct_radius");
-    v("distinct_radius", distinct_radius, "pixels, how far from a new corner a look-alike is looked for");
+      "auto (on with --init none) | on | off: new corners preferably with no look-alike (a place the search "
+      "would accept) as far as the last frame's searches reached");
+    v("distinct_radius", distinct_radius,
+      "pixels, the most a look-alike is looked for away from a new corner (and before any search)");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // the box fits in the image
