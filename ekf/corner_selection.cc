@@ -60,20 +60,24 @@ bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
   return fallback.has_value();
 }
 
-bool hasNoLookAlike(const cv::Mat& grey, const Vec2& uv, int patch_size, int radius, double min_ncc) {
+std::optional<cv::Rect> patchAround(const cv::Mat& grey, const Vec2& uv, int patch_size) {
   const int half = patch_size / 2;
-  const cv::Point centre(static_cast<int>(std::lround(uv.x())), static_cast<int>(std::lround(uv.y())));
-  const cv::Rect image(0, 0, grey.cols, grey.rows);
-  const cv::Rect patch(centre.x - half, centre.y - half, patch_size, patch_size);
-  if ((patch & image) != patch) return false;
-  const cv::Rect region = cv::Rect(centre.x - radius - half, centre.y - radius - half, 2 * (radius + half) + 1,
-                                   2 * (radius + half) + 1) & image;
+  const cv::Rect patch(static_cast<int>(std::lround(uv.x())) - half, static_cast<int>(std::lround(uv.y())) - half,
+                       patch_size, patch_size);
+  if ((patch & cv::Rect(0, 0, grey.cols, grey.rows)) != patch) return std::nullopt;
+  return patch;
+}
+
+bool hasNoLookAlike(const cv::Mat& grey, const Vec2& uv, int patch_size, int radius, double min_ncc) {
+  const std::optional<cv::Rect> patch = patchAround(grey, uv, patch_size);
+  if (!patch) return false;
+  const cv::Rect region = cv::Rect(patch->x - radius, patch->y - radius, patch_size + 2 * radius,
+                                   patch_size + 2 * radius) & cv::Rect(0, 0, grey.cols, grey.rows);
   cv::Mat ncc;
-  cv::matchTemplate(grey(region), grey(patch), ncc, cv::TM_CCOEFF_NORMED);
+  cv::matchTemplate(grey(region), grey(*patch), ncc, cv::TM_CCOEFF_NORMED);
   // The places that would be accepted, less the connected peak the patch itself sits in.
   cv::Mat accepted = ncc >= min_ncc;
-  const cv::Point self(patch.x - region.x, patch.y - region.y);
-  cv::floodFill(accepted, self, cv::Scalar(0));
+  cv::floodFill(accepted, cv::Point(patch->x - region.x, patch->y - region.y), cv::Scalar(0));
   return cv::countNonZero(accepted) == 0;
 }
 

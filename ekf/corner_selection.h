@@ -2,6 +2,7 @@
 // Where a new feature starts (Davison et al. 2007, section 3.6): the strongest Shi-Tomasi corner in
 // an image box that holds no feature yet.
 #include <functional>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -23,6 +24,9 @@ bool findCornerInFreeBox(const cv::Mat& grey, const std::vector<Vec2>& occupied,
                          const FeatureInitOptions& options, int margin, std::mt19937& rng, Vec2* uv,
                          const std::function<bool(const Vec2&)>& preferred = nullptr,
                          const std::function<bool(const Vec2&)>& usable = nullptr);
+
+// The patch_size square centred on the pixel nearest uv; none if it leaves the image.
+std::optional<cv::Rect> patchAround(const cv::Mat& grey, const Vec2& uv, int patch_size);
 
 // Whether the patch_size template at uv has no look-alike in the square window of half-side
 // `radius` pixels around it: no place there, apart from the connected peak around uv itself,

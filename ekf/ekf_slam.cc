@@ -184,10 +184,8 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
     return hasNoLookAlike(grey, corner, size, radius, options_.search.min_ncc);
   };
   const auto textured = [&](const Vec2& corner) {
-    const cv::Rect patch(static_cast<int>(std::lround(corner.x())) - size / 2,
-                         static_cast<int>(std::lround(corner.y())) - size / 2, size, size);
-    return (patch & cv::Rect(0, 0, grey.cols, grey.rows)) == patch &&
-           patchStdDev(grey(patch)) >= options_.search.min_patch_stddev;
+    const std::optional<cv::Rect> patch = patchAround(grey, corner, size);
+    return patch && patchStdDev(grey(*patch)) >= options_.search.min_patch_stddev;
   };
   if (!findCornerInFreeBox(grey, occupied, fo, margin, rng_, &uv,
                            distinct_ ? distinct : std::function<bool(const Vec2&)>(), textured))
