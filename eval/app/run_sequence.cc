@@ -14,6 +14,7 @@
 #include "core/run_recorder.h"
 #include "core/sequence.h"
 #include "core/trajectory.h"
+#include "eval/metrics/board_visibility.h"
 #include "eval/metrics/map_metrics.h"
 #include "eval/metrics/nees.h"
 #include "eval/metrics/trajectory_metrics.h"
@@ -121,8 +122,10 @@ nlohmann::json runSequence(const RunRequest& request) {
   DecodedFrame d;
   int decoded_ok = 0;
   std::vector<CovariantPose> covariant_poses;  // filters' poses with their covariance, for NEES
+  std::vector<double> frame_timestamps;        // every frame read, posed or not
   bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
   while (!interrupted() && !quit && frames.next(&d)) {
+    frame_timestamps.push_back(d.frame.timestamp);
     if (d.frame.grey.empty()) {
       recorder.recordUndecodable(d.frame, d.decode_ms);
       continue;
@@ -189,6 +192,13 @@ nlohmann::json runSequence(const RunRequest& request) {
         extra["rpe"] = errors->json["rpe"];
         T_gt_estimate = errors->T_gt_estimate;
         if (scale_free) extra["scale"] = T_gt_estimate.scale;
+      }
+      // Scored by what the true camera sees of the board: in the board's frame, so not scale-free.
+      if (!scale_free && seq.camera && seq.target) {
+        const auto frames = boardViewFrames(frame_timestamps, *seq.groundtruth, estimate, *seq.camera, *seq.target,
+                                            EvalOptions{}.max_diff);
+        if (!frames.empty())
+          extra["board_view"] = boardVisibilityToJson(scoreBoardVisibility(frames, seq.target->numCorners()));
       }
       if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free)) {
         extra["nees"] = neesToJson(*nees);

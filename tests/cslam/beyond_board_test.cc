@@ -19,6 +19,7 @@
 #include "core/sequence.h"
 #include "cslam/cslam_tracker.h"
 #include "datasets/synth_sequence.h"
+#include "eval/metrics/board_visibility.h"
 #include "tests/test_util.h"
 #include "tracking/board_corner_tracker.h"
 
@@ -60,10 +61,7 @@ std::vector<FrameRecord> run(const std::string& path, const std::string& mode = 
     rec.status = statusLabel(r.status, r.source);
     rec.reason = r.reason;
     if (r.T_world_camera) rec.error = (r.T_world_camera->t() - truth.t()).norm();
-    for (const Vec3& c : corners) {
-      const Vec3 p = truth.inverse() * c;
-      rec.corners_in_view += p.z() > 0 && seq.camera->inImage(seq.camera->project(p), 3.0);
-    }
+    rec.corners_in_view = boardCornersInView(*seq.camera, corners, truth);
     if (last_centre) rec.step = (truth.t() - *last_centre).norm();
     last_centre = truth.t();
     EXPECT_EQ(r.T_world_camera.has_value(), r.status != TrackStatus::Lost) << records.size();
@@ -75,28 +73,11 @@ std::vector<FrameRecord> run(const std::string& path, const std::string& mode = 
   return records;
 }
 
-double rms(const std::vector<double>& v) {
-  double sum = 0;
-  for (double x : v) sum += x * x;
-  return v.empty() ? NAN : std::sqrt(sum / static_cast<double>(v.size()));
-}
-
-// The errors of frames with half the board or more in view (not all of it), and with all of it;
-// returning_only: the half boards only after the board was wholly away.
-struct HalfAndWhole {
-  std::vector<double> half, whole;
-};
-HalfAndWhole halfAndWhole(const std::vector<FrameRecord>& records, bool returning_only = false) {
-  HalfAndWhole out;
-  bool was_away = false;
-  for (const FrameRecord& r : records) {
-    was_away = was_away || r.corners_in_view == 0;
-    if (!r.error) continue;
-    if (2 * r.corners_in_view >= 54 && r.corners_in_view < 54 && (was_away || !returning_only))
-      out.half.push_back(*r.error);
-    if (r.corners_in_view == 54) out.whole.push_back(*r.error);
-  }
-  return out;
+// The run scored as `slamcmp run` scores it (summary.json's board_view).
+BoardVisibilityScores scores(const std::vector<FrameRecord>& records) {
+  std::vector<BoardViewFrame> frames;
+  for (const FrameRecord& r : records) frames.push_back({0, r.corners_in_view, r.step, r.error});
+  return scoreBoardVisibility(frames, 54);
 }
 
 // The gaps: frames not posed from the board after one that was. For each, the worst error over
@@ -128,48 +109,24 @@ std::vector<Gap> gaps(const std::vector<FrameRecord>& records) {
       ++g.lost;
       continue;
     }
-    const double ratio = *r.error / std::max(0.01 * path, 0.005);
+    const double ratio = *r.error / gapAllowanceM(path);
     if (ratio > g.worst_over_allowed) g.worst_over_allowed = ratio, g.worst_error = *r.error;
   }
   return out;
 }
 
-// The first frame with the whole board in view after frames with none of it.
-int returnFrame(const std::vector<FrameRecord>& records, int corners) {
-  bool away = false;
-  for (int i = 0; i < static_cast<int>(records.size()); ++i) {
-    if (records[i].corners_in_view == 0) away = true;
-    if (away && records[i].corners_in_view == corners) return i;
-  }
-  return -1;
-}
-
-// RMS error over frames with the whole board in view, more than 30 frames from any without it,
-// after the first 10.
-double continuousRms(const std::vector<FrameRecord>& records, int corners) {
-  std::vector<double> errors;
-  for (int i = 10; i < static_cast<int>(records.size()); ++i) {
-    bool settled = records[i].error.has_value();
-    for (int j = std::max(0, i - 30); j <= std::min<int>(records.size() - 1, i + 30) && settled; ++j)
-      settled = records[j].corners_in_view == corners;
-    if (settled) errors.push_back(*records[i].error);
-  }
-  return rms(errors);
-}
-
 // The board re-acquired in the frame it is wholly back, and the RMS error over the 30 frames from
 // there at most `factor` times that of frames with the board long in view.
 void expectReacquiredWithoutLag(const std::vector<FrameRecord>& records, double factor) {
-  const int back = returnFrame(records, 54);
-  ASSERT_GT(back, 0);
-  ASSERT_LE(back + 30, static_cast<int>(records.size()));
+  const BoardVisibilityScores s = scores(records);
+  ASSERT_TRUE(s.return_frame);
+  const int back = *s.return_frame;
+  ASSERT_LE(back + s.return_frames, static_cast<int>(records.size()));
   EXPECT_EQ(records[back].status, "board");
-  std::vector<double> after;
-  for (int i = back; i < back + 30; ++i) after.push_back(*records[i].error);
-  const double settled = continuousRms(records, 54);
-  std::printf("30 frames from the return %.3f mm, settled %.3f mm: %.2f\n", 1e3 * rms(after), 1e3 * settled,
-              rms(after) / settled);
-  EXPECT_LT(rms(after), factor * settled) << rms(after) << " m against " << settled;
+  for (int i = back; i < back + s.return_frames; ++i) EXPECT_TRUE(records[i].error) << "frame " << i;
+  std::printf("30 frames from the return %.3f mm, settled %.3f mm: %.2f\n", 1e3 * s.after_return_rms,
+              1e3 * s.settled_rms, s.after_return_rms / s.settled_rms);
+  EXPECT_LT(s.after_return_rms, factor * s.settled_rms) << s.after_return_rms << " m against " << s.settled_rms;
 }
 
 // board_partial's first 60 frames: up to half the board leaves the image, and boxes in front of
@@ -178,18 +135,16 @@ void expectReacquiredWithoutLag(const std::vector<FrameRecord>& records, double 
 TEST(CslamBeyondBoard, PartialBoardAsAccurateAsTheWholeBoard) {
   TempDir dir;
   const std::vector<FrameRecord> records = run(render(dir, "board_partial", 60));
-  std::vector<double> partial, whole;
   for (const FrameRecord& r : records) {
     ASSERT_TRUE(r.error.has_value());
     if (2 * r.corners_in_view >= 54 && r.corners_in_view < 54) {
       EXPECT_EQ(r.status, "board");
-      partial.push_back(*r.error);
     }
-    if (r.corners_in_view == 54) whole.push_back(*r.error);
   }
-  ASSERT_GT(partial.size(), 20u);
-  ASSERT_GT(whole.size(), 10u);
-  EXPECT_LT(rms(partial), 1.3 * rms(whole)) << rms(partial) << " m against " << rms(whole);
+  const BoardVisibilityScores s = scores(records);
+  ASSERT_GT(s.partial_frames, 20);
+  ASSERT_GT(s.whole_frames, 10);
+  EXPECT_LT(s.partial_rms, 1.3 * s.whole_rms) << s.partial_rms << " m against " << s.whole_rms;
 }
 
 // board_leaves' first 210 frames: the pan away (from frame ~88), 8 s without the board, the pan
@@ -211,9 +166,9 @@ TEST(CslamBeyondBoard, BoardLeavesGapReturnAndReanchoring) {
   }
   EXPECT_GT(gap_frames, 60);
   expectReacquiredWithoutLag(records, 1.2);
-  const HalfAndWhole errors = halfAndWhole(records);
-  ASSERT_GE(errors.half.size(), 8u);
-  EXPECT_LT(rms(errors.half), 1.0 * rms(errors.whole)) << rms(errors.half) << " m against " << rms(errors.whole);
+  const BoardVisibilityScores s = scores(records);
+  ASSERT_GE(s.partial_frames, 8);
+  EXPECT_LT(s.partial_rms, 1.0 * s.whole_rms) << s.partial_rms << " m against " << s.whole_rms;
 }
 
 // configs/cslam_gradient.yaml on board_leaves' first 210 frames, against the defaults and against
@@ -239,11 +194,11 @@ TEST(CslamBeyondBoard, GradientCornersAndTheGapsMapTrustedToItsDrift) {
     SCOPED_TRACE(name);
     const std::vector<FrameRecord> records = run(path, "combined", options);
     if (hold_return) expectReacquiredWithoutLag(records, 1.2);
-    const HalfAndWhole errors = halfAndWhole(records, true);
-    EXPECT_GE(errors.half.size(), 4u);
-    std::printf("%s: returning half boards %.3f mm, whole board %.3f mm\n", name, 1e3 * rms(errors.half),
-                1e3 * rms(errors.whole));
-    return Rms{rms(errors.half), rms(errors.whole)};
+    const BoardVisibilityScores s = scores(records);
+    EXPECT_GE(s.returning_partial_frames, 4);
+    std::printf("%s: returning half boards %.3f mm, whole board %.3f mm\n", name, 1e3 * s.returning_partial_rms,
+                1e3 * s.whole_rms);
+    return Rms{s.returning_partial_rms, s.whole_rms};
   };
   const Rms defaults = score("defaults", CslamOptions{}), alone = score("gradient alone", gradient_alone),
             with_file = score("the file", file, true);
@@ -291,9 +246,9 @@ TEST(CslamBeyondBoard, CalibrationModeSearchesOnlyWhereTheBoardCanBe) {
   // The rest: the frames as the board leaves (the motion model's pose still says it may be in
   // view) and one in search_interval_when_away (30), in case the prediction is wrong.
   EXPECT_GT(not_searched, 0.85 * away) << not_searched << " of " << away;
-  const int back = returnFrame(records, 54);
-  ASSERT_GT(back, 0);
-  EXPECT_EQ(records[back].status, "board");
+  const std::optional<int> back = scores(records).return_frame;
+  ASSERT_TRUE(back);
+  EXPECT_EQ(records[*back].status, "board");
 }
 
 // The board tracker keeps the identities of a partial board: on board_partial's first 40

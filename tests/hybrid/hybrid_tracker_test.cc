@@ -15,6 +15,7 @@
 #include "core/options.h"
 #include "core/sequence.h"
 #include "datasets/synth_sequence.h"
+#include "eval/metrics/board_visibility.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -31,8 +32,7 @@ struct FrameScore {
   std::optional<double> depth_error;
   double path_since_board = 0;  // metres the camera travelled since it last saw a corner
   std::string reason;
-  // Issue 14's bound on the error while the board is away: max(5 mm, 1 % of the path since).
-  double gapAllowance() const { return std::max(0.005, 0.01 * path_since_board); }
+  double gapAllowance() const { return gapAllowanceM(path_since_board); }
 };
 
 struct TrackedRun {
@@ -103,13 +103,7 @@ TrackedRun runOn(const std::string& path, int max_frames = -1, bool with_camera 
     if (previous) travelled += (truth.t() - *previous).norm();
     previous = truth.t();
     FrameScore s;
-    for (const Vec3& p : corners) {
-      const Vec3 p_camera = truth.inverse() * p;
-      if (p_camera.z() <= 0.05) continue;
-      const Vec2 uv = seq.camera->project(p_camera);
-      if (uv.x() >= 0 && uv.y() >= 0 && uv.x() < seq.image_size.width && uv.y() < seq.image_size.height)
-        ++s.corners_in_view;
-    }
+    s.corners_in_view = boardCornersInView(*seq.camera, corners, truth);
     if (s.corners_in_view > 0) last_seen = travelled;
     s.path_since_board = travelled - last_seen;
     if (r.T_world_camera) {

@@ -1,0 +1,152 @@
+#include "eval/metrics/board_visibility.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace slamcmp {
+
+namespace {
+
+// The frames counted as settled lie this far from any frame without the whole board, and past
+// the first kSettledFrom (the filters converging from the first view).
+constexpr int kSettledMargin = 30;
+constexpr int kSettledFrom = 10;
+
+// Index of the pose nearest in time to t within max_diff, if any (poses in time order).
+std::optional<size_t> nearestPose(const Trajectory& poses, double t, double max_diff) {
+  const auto later = std::lower_bound(poses.begin(), poses.end(), t,
+                                      [](const StampedPose& p, double time) { return p.timestamp < time; });
+  std::optional<size_t> best;
+  double best_dt = max_diff;
+  for (auto it : {later, later == poses.begin() ? poses.end() : later - 1}) {
+    if (it == poses.end()) continue;
+    const double dt = std::abs(it->timestamp - t);
+    if (dt <= best_dt) best_dt = dt, best = static_cast<size_t>(it - poses.begin());
+  }
+  return best;
+}
+
+double rms(const std::vector<double>& values) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  double sum = 0;
+  for (double v : values) sum += v * v;
+  return std::sqrt(sum / static_cast<double>(values.size()));
+}
+
+nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+int boardCornersInView(const CameraModel& camera, const std::vector<Vec3>& corners_world, const SE3& T_world_camera) {
+  const SE3 T_camera_world = T_world_camera.inverse();
+  int in_view = 0;
+  for (const Vec3& p_world : corners_world) {
+    const Vec3 p_camera = T_camera_world * p_world;
+    in_view += p_camera.z() > 0 && camera.inImage(camera.project(p_camera), kCornerInViewMarginPx);
+  }
+  return in_view;
+}
+
+double gapAllowanceM(double path_since_board_m) { return std::max(0.005, 0.01 * path_since_board_m); }
+
+std::vector<BoardViewFrame> boardViewFrames(const std::vector<double>& frame_timestamps, const Trajectory& groundtruth,
+                                            const Trajectory& estimate, const CameraModel& camera,
+                                            const ChessboardTarget& target, double max_diff) {
+  const std::vector<Vec3> corners_world = target.cornersWorld();
+  std::vector<BoardViewFrame> frames;
+  std::optional<Vec3> last_centre;
+  for (const double t : frame_timestamps) {
+    const auto truth = nearestPose(groundtruth, t, max_diff);
+    if (!truth) continue;
+    const SE3& T_world_camera = groundtruth[*truth].T_world_camera;
+    BoardViewFrame f;
+    f.timestamp = t;
+    f.corners_in_view = boardCornersInView(camera, corners_world, T_world_camera);
+    if (last_centre) f.step_m = (T_world_camera.t() - *last_centre).norm();
+    last_centre = T_world_camera.t();
+    if (const auto posed = nearestPose(estimate, t, max_diff))
+      f.error_m = (estimate[*posed].T_world_camera.t() - T_world_camera.t()).norm();
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+BoardVisibilityScores scoreBoardVisibility(const std::vector<BoardViewFrame>& frames, int corners) {
+  BoardVisibilityScores s;
+  s.corners = corners;
+  const int n = static_cast<int>(frames.size());
+  bool seen = false, in_gap = false, was_away = false;
+  double path_since_board = 0;
+  std::vector<double> partial, returning_partial, whole, settled, after_return;
+  for (int i = 0; i < n; ++i) {
+    const BoardViewFrame& f = frames[i];
+    if (f.corners_in_view == 0) {
+      was_away = was_away || seen;
+      if (seen) {
+        path_since_board += f.step_m;
+        if (!in_gap) s.gaps.push_back({i, i, 0, 0, 0}), in_gap = true;
+        BoardGap& g = s.gaps.back();
+        g.last = i;
+        if (!f.error_m) {
+          ++g.lost;
+        } else {
+          const double ratio = *f.error_m / gapAllowanceM(path_since_board);
+          if (ratio > g.worst_over_allowance) g.worst_over_allowance = ratio, g.worst_error_m = *f.error_m;
+        }
+      }
+      continue;
+    }
+    seen = true;
+    in_gap = false;
+    path_since_board = 0;
+    if (was_away && !s.return_frame && f.corners_in_view == corners) s.return_frame = i;
+    if (!f.error_m) continue;
+    if (f.corners_in_view == corners) whole.push_back(*f.error_m);
+    else if (2 * f.corners_in_view >= corners) {
+      partial.push_back(*f.error_m);
+      if (was_away) returning_partial.push_back(*f.error_m);
+    }
+    if (f.corners_in_view != corners || i < kSettledFrom) continue;
+    bool long_in_view = true;
+    for (int j = std::max(0, i - kSettledMargin); j <= std::min(n - 1, i + kSettledMargin) && long_in_view; ++j)
+      long_in_view = frames[j].corners_in_view == corners;
+    if (long_in_view) settled.push_back(*f.error_m);
+  }
+  if (s.return_frame)
+    for (int i = *s.return_frame; i < std::min(n, *s.return_frame + s.return_frames); ++i)
+      if (frames[i].error_m) after_return.push_back(*frames[i].error_m);
+  s.after_return_rms = rms(after_return);
+  s.settled_rms = rms(settled);
+  s.partial_rms = rms(partial);
+  s.returning_partial_rms = rms(returning_partial);
+  s.whole_rms = rms(whole);
+  s.partial_frames = static_cast<int>(partial.size());
+  s.returning_partial_frames = static_cast<int>(returning_partial.size());
+  s.whole_frames = static_cast<int>(whole.size());
+  return s;
+}
+
+nlohmann::json boardVisibilityToJson(const BoardVisibilityScores& s) {
+  nlohmann::json gaps = nlohmann::json::array();
+  for (const BoardGap& g : s.gaps)
+    gaps.push_back({{"first", g.first},
+                    {"last", g.last},
+                    {"lost", g.lost},
+                    {"worst_error", g.worst_error_m},
+                    {"worst_over_allowance", g.worst_over_allowance}});
+  return {{"corners", s.corners},
+          {"gaps", gaps},
+          {"return_frame", s.return_frame ? nlohmann::json(*s.return_frame) : nlohmann::json(nullptr)},
+          {"after_return_rms", finiteOrNull(s.after_return_rms)},
+          {"settled_rms", finiteOrNull(s.settled_rms)},
+          {"after_return_over_settled", finiteOrNull(s.after_return_rms / s.settled_rms)},
+          {"partial_rms", finiteOrNull(s.partial_rms)},
+          {"returning_partial_rms", finiteOrNull(s.returning_partial_rms)},
+          {"whole_rms", finiteOrNull(s.whole_rms)},
+          {"partial_over_whole", finiteOrNull(s.partial_rms / s.whole_rms)},
+          {"partial_frames", s.partial_frames},
+          {"whole_frames", s.whole_frames}};
+}
+
+}  // namespace slamcmp
