@@ -21,6 +21,20 @@ double jsonNumber(const nlohmann::json& j, std::initializer_list<const char*> pa
 
 double errorOf(const RunResult& r, double RunErrors::*field) { return r.errors ? (*r.errors).*field : NAN; }
 
+// Over summary.json's board_view gaps: the worst ratio to the allowance (max) or the frames lost
+// (sum); NaN without a gap.
+double overGaps(const RunResult& r, const char* key, bool sum) {
+  const nlohmann::json* gaps = nullptr;
+  if (r.summary.contains("board_view") && r.summary["board_view"].contains("gaps")) gaps = &r.summary["board_view"]["gaps"];
+  if (!gaps || !gaps->is_array() || gaps->empty()) return NAN;
+  double out = sum ? 0 : -INFINITY;
+  for (const nlohmann::json& g : *gaps) {
+    const double v = jsonNumber(g, {key});
+    out = sum ? out + v : std::max(out, v);
+  }
+  return out;
+}
+
 std::string csvText(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string out = "\"";
@@ -53,6 +67,11 @@ const std::vector<RunColumn>& runColumns() {
       {"map_median_m", [](const RunResult& r) { return r.map_errors ? r.map_errors->stats.distance.median : NAN; }},
       {"map_within_1cm", [](const RunResult& r) { return r.map_errors ? r.map_errors->stats.within_1cm : NAN; }},
       {"nees_mean", [](const RunResult& r) { return jsonNumber(r.summary, {"nees", "mean"}); }},
+      {"gap_worst_over_allowance", [](const RunResult& r) { return overGaps(r, "worst_over_allowance", false); }},
+      {"gap_lost", [](const RunResult& r) { return overGaps(r, "lost", true); }},
+      {"after_return_over_settled",
+       [](const RunResult& r) { return jsonNumber(r.summary, {"board_view", "after_return_over_settled"}); }},
+      {"partial_over_whole", [](const RunResult& r) { return jsonNumber(r.summary, {"board_view", "partial_over_whole"}); }},
   };
   return columns;
 }

@@ -18,7 +18,9 @@ struct RunColumn {
 
 // frames, tracked, posed_percent, scale, ate_trans_rmse_m, ate_rot_rmse_deg, rpe_trans_rmse_m,
 // rpe_rot_rmse_deg, drift_trans_percent, drift_rot_deg_per_m, ms_median, cpu_ms_median,
-// cpu_ms_mean, map_points, map_median_m, map_within_1cm.
+// cpu_ms_mean, map_points, map_median_m, map_within_1cm, nees_mean, and from summary.json's
+// board_view: gap_worst_over_allowance (the worst gap's), gap_lost (over every gap),
+// after_return_over_settled, partial_over_whole.
 const std::vector<RunColumn>& runColumns();
 
 // The column's number of a run that finished (status ok), else NaN.

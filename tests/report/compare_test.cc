@@ -1,6 +1,7 @@
 #include "eval/app/compare.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 
 #include "core/error.h"
 #include "datasets/synth_sequence.h"
+#include "eval/report/results_table.h"
 #include "eval/report/thesis_tables.h"
 #include "eval/app/backends.h"
 #include "tests/test_util.h"
@@ -144,6 +146,13 @@ TEST(Compare, EndToEndOnShortTv1) {
   const nlohmann::json summary = nlohmann::json::parse(summary_file);
   ASSERT_TRUE(summary.contains("map")) << summary.dump();
   EXPECT_TRUE(summary["map"].contains("within_1cm")) << summary.dump();
+  // ... and what the true camera saw of the board: all of it in every frame of this start.
+  ASSERT_TRUE(summary.contains("board_view")) << summary.dump();
+  EXPECT_TRUE(summary["board_view"]["gaps"].empty());
+  EXPECT_TRUE(summary["board_view"]["return_frame"].is_null());
+  EXPECT_EQ(summary["board_view"]["whole_frames"], summary["tracked"]);
+  EXPECT_EQ(summary["board_view"]["partial_frames"], 0);
+  EXPECT_EQ(report.find("## The board leaving and coming back"), std::string::npos) << report;
 
   // results.csv: one row per run, each with an ATE under 5 cm on this easy start, and a map whose
   // median point lies within 2 cm of the true scene (the issue's target for the EKF).
@@ -165,6 +174,23 @@ TEST(Compare, EndToEndOnShortTv1) {
     EXPECT_GT(std::stoi(f[column("map_points")]), 0) << lines[k];
     EXPECT_LT(std::stod(f[column("map_median_m")]), 0.02) << lines[k];
   }
+}
+
+// results.csv's columns from summary.json's board_view: the worst gap's ratio, the frames lost
+// over every gap, the return's and the partial boards' ratios; empty where the run has none.
+TEST(Compare, BoardViewColumnsFromTheSummary) {
+  RunResult r;
+  r.summary = nlohmann::json::parse(R"({"board_view": {"gaps": [{"worst_over_allowance": 0.4, "lost": 1},
+      {"worst_over_allowance": 0.9, "lost": 2}], "after_return_over_settled": 1.1, "partial_over_whole": null}})");
+  EXPECT_DOUBLE_EQ(runValue(r, "gap_worst_over_allowance"), 0.9);
+  EXPECT_DOUBLE_EQ(runValue(r, "gap_lost"), 3);
+  EXPECT_DOUBLE_EQ(runValue(r, "after_return_over_settled"), 1.1);
+  EXPECT_TRUE(std::isnan(runValue(r, "partial_over_whole")));
+  r.summary["board_view"]["gaps"] = nlohmann::json::array();
+  EXPECT_TRUE(std::isnan(runValue(r, "gap_worst_over_allowance")));
+  EXPECT_TRUE(std::isnan(runValue(r, "gap_lost")));
+  r.status = "failed";
+  EXPECT_TRUE(std::isnan(runValue(r, "after_return_over_settled")));
 }
 
 // monoslam started without the board beside its board start: the run is given --init none, its
