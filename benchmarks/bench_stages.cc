@@ -27,6 +27,7 @@
 #include "core/chessboard.h"
 #include "cslam/board_image_motion.h"
 #include "cslam/map_point_search.h"
+#include "eval/metrics/board_visibility.h"
 #include "geometry/bundle_adjustment.h"
 #include "geometry/pose_graph.h"
 #include "tracking/board_corner_tracker.h"
@@ -83,12 +84,7 @@ void classifyByGroundTruth(StageData* d) {
     const auto it = T_world_camera.lower_bound(d->b->frames[i].timestamp - 1e-6);
     if (it == T_world_camera.end() || it->first > d->b->frames[i].timestamp + 1e-6) continue;
     d->T_world_camera[i] = it->second;
-    const SE3 T_camera_world = it->second.inverse();
-    int in_view = 0;
-    for (const Vec3& p : corners) {
-      const Vec3 p_camera = T_camera_world * p;
-      in_view += p_camera.z() > 0 && d->camera.inImage(d->camera.project(p_camera), 10.0);
-    }
+    const int in_view = boardCornersInView(d->camera, corners, it->second, 10.0);
     if (in_view == static_cast<int>(corners.size())) d->board_visible.push_back(i);
     if (in_view == 0) d->board_absent.push_back(i);
     if (2 * in_view >= static_cast<int>(corners.size()) && in_view < static_cast<int>(corners.size()))

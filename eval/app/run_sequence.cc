@@ -1,5 +1,6 @@
 #include "eval/app/run_sequence.h"
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>  // sigaction (POSIX)
 #include <filesystem>
@@ -193,12 +194,14 @@ nlohmann::json runSequence(const RunRequest& request) {
         T_gt_estimate = errors->T_gt_estimate;
         if (scale_free) extra["scale"] = T_gt_estimate.scale;
       }
-      // Scored by what the true camera sees of the board: in the board's frame, so not scale-free.
-      if (!scale_free && seq.camera && seq.target) {
-        const auto frames = boardViewFrames(frame_timestamps, *seq.groundtruth, estimate, *seq.camera, *seq.target,
-                                            EvalOptions{}.max_diff);
-        if (!frames.empty())
-          extra["board_view"] = boardVisibilityToJson(scoreBoardVisibility(frames, seq.target->numCorners()));
+      // Scored by what the true camera sees of the board: for a run whose world is the board's
+      // (started from it), as the ground truth's must then be; not once no frame sees a corner.
+      const bool board_world = !backend.takes_init || context.init == InitSource::Board;
+      if (board_world && seq.camera && seq.target) {
+        const auto board_frames = boardViewFrames(frame_timestamps, *seq.groundtruth, estimate, *seq.camera,
+                                                  *seq.target, EvalOptions{}.max_diff);
+        if (std::any_of(board_frames.begin(), board_frames.end(), [](const BoardViewFrame& f) { return f.corners_in_view > 0; }))
+          extra["board_view"] = boardVisibilityToJson(scoreBoardVisibility(board_frames, seq.target->numCorners()));
       }
       if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free)) {
         extra["nees"] = neesToJson(*nees);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.h"
+
 namespace slamcmp {
 
 namespace {
@@ -12,6 +14,12 @@ namespace {
 // the first kSettledFrom (the filters converging from the first view).
 constexpr int kSettledMargin = 30;
 constexpr int kSettledFrom = 10;
+
+void requireTimeOrder(const Trajectory& poses, const char* which) {
+  for (size_t k = 1; k < poses.size(); ++k)
+    if (poses[k].timestamp < poses[k - 1].timestamp)
+      throw InputError(which, "timestamps go back in time at pose " + std::to_string(k + 1));
+}
 
 // Index of the pose nearest in time to t within max_diff, if any (poses in time order).
 std::optional<size_t> nearestPose(const Trajectory& poses, double t, double max_diff) {
@@ -27,8 +35,10 @@ std::optional<size_t> nearestPose(const Trajectory& poses, double t, double max_
   return best;
 }
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 double rms(const std::vector<double>& values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (values.empty()) return kNaN;
   double sum = 0;
   for (double v : values) sum += v * v;
   return std::sqrt(sum / static_cast<double>(values.size()));
@@ -38,12 +48,13 @@ nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json
 
 }  // namespace
 
-int boardCornersInView(const CameraModel& camera, const std::vector<Vec3>& corners_world, const SE3& T_world_camera) {
+int boardCornersInView(const CameraModel& camera, const std::vector<Vec3>& corners_world, const SE3& T_world_camera,
+                       double margin_px) {
   const SE3 T_camera_world = T_world_camera.inverse();
   int in_view = 0;
   for (const Vec3& p_world : corners_world) {
     const Vec3 p_camera = T_camera_world * p_world;
-    in_view += p_camera.z() > 0 && camera.inImage(camera.project(p_camera), kCornerInViewMarginPx);
+    in_view += p_camera.z() > 0 && camera.inImage(camera.project(p_camera), margin_px);
   }
   return in_view;
 }
@@ -53,19 +64,25 @@ double gapAllowanceM(double path_since_board_m) { return std::max(0.005, 0.01 * 
 std::vector<BoardViewFrame> boardViewFrames(const std::vector<double>& frame_timestamps, const Trajectory& groundtruth,
                                             const Trajectory& estimate, const CameraModel& camera,
                                             const ChessboardTarget& target, double max_diff) {
+  requireTimeOrder(groundtruth, "ground truth");
+  requireTimeOrder(estimate, "trajectory.txt");
+  double own_pose = max_diff;  // how near in time the estimate's pose of a frame is
+  for (size_t k = 1; k < frame_timestamps.size(); ++k)
+    if (const double dt = frame_timestamps[k] - frame_timestamps[k - 1]; dt > 0) own_pose = std::min(own_pose, dt / 4);
   const std::vector<Vec3> corners_world = target.cornersWorld();
   std::vector<BoardViewFrame> frames;
   std::optional<Vec3> last_centre;
-  for (const double t : frame_timestamps) {
+  for (size_t k = 0; k < frame_timestamps.size(); ++k) {
+    const double t = frame_timestamps[k];
     const auto truth = nearestPose(groundtruth, t, max_diff);
     if (!truth) continue;
     const SE3& T_world_camera = groundtruth[*truth].T_world_camera;
     BoardViewFrame f;
-    f.timestamp = t;
+    f.frame = static_cast<int>(k);
     f.corners_in_view = boardCornersInView(camera, corners_world, T_world_camera);
     if (last_centre) f.step_m = (T_world_camera.t() - *last_centre).norm();
     last_centre = T_world_camera.t();
-    if (const auto posed = nearestPose(estimate, t, max_diff))
+    if (const auto posed = nearestPose(estimate, t, own_pose))
       f.error_m = (estimate[*posed].T_world_camera.t() - T_world_camera.t()).norm();
     frames.push_back(f);
   }
@@ -77,6 +94,7 @@ BoardVisibilityScores scoreBoardVisibility(const std::vector<BoardViewFrame>& fr
   s.corners = corners;
   const int n = static_cast<int>(frames.size());
   bool seen = false, in_gap = false, was_away = false;
+  std::optional<int> return_index;  // into frames
   double path_since_board = 0;
   std::vector<double> partial, returning_partial, whole, settled, after_return;
   for (int i = 0; i < n; ++i) {
@@ -85,14 +103,14 @@ BoardVisibilityScores scoreBoardVisibility(const std::vector<BoardViewFrame>& fr
       was_away = was_away || seen;
       if (seen) {
         path_since_board += f.step_m;
-        if (!in_gap) s.gaps.push_back({i, i, 0, 0, 0}), in_gap = true;
+        if (!in_gap) s.gaps.push_back({f.frame, f.frame, 0, kNaN, kNaN}), in_gap = true;
         BoardGap& g = s.gaps.back();
-        g.last = i;
+        g.last = f.frame;
         if (!f.error_m) {
           ++g.lost;
         } else {
           const double ratio = *f.error_m / gapAllowanceM(path_since_board);
-          if (ratio > g.worst_over_allowance) g.worst_over_allowance = ratio, g.worst_error_m = *f.error_m;
+          if (!(ratio <= g.worst_over_allowance)) g.worst_over_allowance = ratio, g.worst_error_m = *f.error_m;
         }
       }
       continue;
@@ -100,7 +118,7 @@ BoardVisibilityScores scoreBoardVisibility(const std::vector<BoardViewFrame>& fr
     seen = true;
     in_gap = false;
     path_since_board = 0;
-    if (was_away && !s.return_frame && f.corners_in_view == corners) s.return_frame = i;
+    if (was_away && !return_index && f.corners_in_view == corners) return_index = i;
     if (!f.error_m) continue;
     if (f.corners_in_view == corners) whole.push_back(*f.error_m);
     else if (2 * f.corners_in_view >= corners) {
@@ -113,9 +131,13 @@ BoardVisibilityScores scoreBoardVisibility(const std::vector<BoardViewFrame>& fr
       long_in_view = frames[j].corners_in_view == corners;
     if (long_in_view) settled.push_back(*f.error_m);
   }
-  if (s.return_frame)
-    for (int i = *s.return_frame; i < std::min(n, *s.return_frame + s.return_frames); ++i)
+  if (return_index) {
+    s.return_frame = frames[*return_index].frame;
+    for (int i = *return_index; i < std::min(n, *return_index + kReturnFrames); ++i) {
       if (frames[i].error_m) after_return.push_back(*frames[i].error_m);
+      else ++s.after_return_lost;
+    }
+  }
   s.after_return_rms = rms(after_return);
   s.settled_rms = rms(settled);
   s.partial_rms = rms(partial);
@@ -133,11 +155,12 @@ nlohmann::json boardVisibilityToJson(const BoardVisibilityScores& s) {
     gaps.push_back({{"first", g.first},
                     {"last", g.last},
                     {"lost", g.lost},
-                    {"worst_error", g.worst_error_m},
-                    {"worst_over_allowance", g.worst_over_allowance}});
+                    {"worst_error", finiteOrNull(g.worst_error_m)},
+                    {"worst_over_allowance", finiteOrNull(g.worst_over_allowance)}});
   return {{"corners", s.corners},
           {"gaps", gaps},
           {"return_frame", s.return_frame ? nlohmann::json(*s.return_frame) : nlohmann::json(nullptr)},
+          {"after_return_lost", s.return_frame ? nlohmann::json(s.after_return_lost) : nlohmann::json(nullptr)},
           {"after_return_rms", finiteOrNull(s.after_return_rms)},
           {"settled_rms", finiteOrNull(s.settled_rms)},
           {"after_return_over_settled", finiteOrNull(s.after_return_rms / s.settled_rms)},
@@ -146,6 +169,7 @@ nlohmann::json boardVisibilityToJson(const BoardVisibilityScores& s) {
           {"whole_rms", finiteOrNull(s.whole_rms)},
           {"partial_over_whole", finiteOrNull(s.partial_rms / s.whole_rms)},
           {"partial_frames", s.partial_frames},
+          {"returning_partial_frames", s.returning_partial_frames},
           {"whole_frames", s.whole_frames}};
 }
 

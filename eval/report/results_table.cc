@@ -22,15 +22,16 @@ double jsonNumber(const nlohmann::json& j, std::initializer_list<const char*> pa
 double errorOf(const RunResult& r, double RunErrors::*field) { return r.errors ? (*r.errors).*field : NAN; }
 
 // Over summary.json's board_view gaps: the worst ratio to the allowance (max) or the frames lost
-// (sum); NaN without a gap.
+// (sum); NaN without a gap that has the number (a gap wholly lost has no ratio).
 double overGaps(const RunResult& r, const char* key, bool sum) {
   const nlohmann::json* gaps = nullptr;
   if (r.summary.contains("board_view") && r.summary["board_view"].contains("gaps")) gaps = &r.summary["board_view"]["gaps"];
-  if (!gaps || !gaps->is_array() || gaps->empty()) return NAN;
-  double out = sum ? 0 : -INFINITY;
+  if (!gaps || !gaps->is_array()) return NAN;
+  double out = NAN;
   for (const nlohmann::json& g : *gaps) {
     const double v = jsonNumber(g, {key});
-    out = sum ? out + v : std::max(out, v);
+    if (std::isnan(v)) continue;
+    out = std::isnan(out) ? v : sum ? out + v : std::max(out, v);
   }
   return out;
 }

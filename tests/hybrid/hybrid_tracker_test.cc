@@ -25,7 +25,7 @@ using test::TempDir;
 
 // One frame of a run against the ground truth.
 struct FrameScore {
-  int corners_in_view = 0;  // board corners the true pose puts inside the image
+  int corners_in_view = 0;  // board corners the true pose puts 3 px inside the image (boardCornersInView)
   std::optional<double> error;  // position error of the reported pose, metres
   // The truth's position less the reported one along the reported camera's optical axis, metres:
   // negative when the camera is put too near what it looks at.
