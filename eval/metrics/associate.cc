@@ -9,9 +9,7 @@
 
 namespace slamcmp {
 
-namespace {
-
-std::vector<double> timestamps(const Trajectory& trajectory, const char* name) {
+std::vector<double> timestampsInOrder(const Trajectory& trajectory, const char* name) {
   std::vector<double> t(trajectory.size());
   for (size_t i = 0; i < t.size(); ++i) {
     t[i] = trajectory[i].timestamp;
@@ -21,10 +19,10 @@ std::vector<double> timestamps(const Trajectory& trajectory, const char* name) {
   return t;
 }
 
-// evo: index = argmin |times - t| (the first of equal minima). The times do not decrease, so the
-// differences fall then rise: the minimum is next to the insertion point, and repeated times or
-// rounding can only make equal neighbours, which the walk to the left resolves as argmin does.
-size_t nearestIndex(const std::vector<double>& times, double t) {
+// The times do not decrease, so the differences fall then rise: the minimum is next to the
+// insertion point, and repeated times or rounding can only make equal neighbours, which the walk
+// to the left resolves as evo's argmin does.
+size_t nearestTimeIndex(const std::vector<double>& times, double t) {
   const size_t k =
       static_cast<size_t>(std::lower_bound(times.begin(), times.end(), t) - times.begin());
   size_t best = k < times.size() ? k : times.size() - 1;
@@ -32,6 +30,8 @@ size_t nearestIndex(const std::vector<double>& times, double t) {
   while (best > 0 && std::abs(times[best - 1] - t) == std::abs(times[best] - t)) --best;
   return best;
 }
+
+namespace {
 
 std::string range(const std::vector<double>& t) {
   char buf[96];
@@ -71,8 +71,8 @@ const char* unitPair(double factor) {  // the usual reading of a factor between 
 
 PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estimate,
                           double max_diff) {
-  const std::vector<double> t_gt = timestamps(groundtruth, "ground truth");
-  const std::vector<double> t_est = timestamps(estimate, "estimate");
+  const std::vector<double> t_gt = timestampsInOrder(groundtruth, "ground truth");
+  const std::vector<double> t_est = timestampsInOrder(estimate, "estimate");
   PosePairs pairs;
   if (t_gt.empty() || t_est.empty())
     throw InputError("", "nothing to associate: a trajectory holds no pose");
@@ -85,7 +85,7 @@ PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estim
   std::vector<size_t>& index_short = estimate_longer ? pairs.groundtruth : pairs.estimate;
   std::vector<size_t>& index_long = estimate_longer ? pairs.estimate : pairs.groundtruth;
   for (size_t i = 0; i < t_short.size(); ++i) {
-    const size_t j = nearestIndex(t_long, t_short[i]);
+    const size_t j = nearestTimeIndex(t_long, t_short[i]);
     if (std::abs(t_long[j] - t_short[i]) <= max_diff) {
       index_short.push_back(i);
       index_long.push_back(j);

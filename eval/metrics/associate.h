@@ -8,6 +8,12 @@
 
 namespace slamcmp {
 
+// The trajectory's timestamps; throws InputError naming `name` when one goes back in time.
+std::vector<double> timestampsInOrder(const Trajectory& trajectory, const char* name);
+
+// evo's argmin |times - t| (the first of equal minima) over times that do not decrease (not empty).
+size_t nearestTimeIndex(const std::vector<double>& times, double t);
+
 // groundtruth[k] is paired with estimate[k].
 struct PosePairs {
   std::vector<size_t> groundtruth;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/error.h"
+#include "eval/metrics/associate.h"
 
 namespace slamcmp {
 
@@ -15,24 +15,12 @@ namespace {
 constexpr int kSettledMargin = 30;
 constexpr int kSettledFrom = 10;
 
-void requireTimeOrder(const Trajectory& poses, const char* which) {
-  for (size_t k = 1; k < poses.size(); ++k)
-    if (poses[k].timestamp < poses[k - 1].timestamp)
-      throw InputError(which, "timestamps go back in time at pose " + std::to_string(k + 1));
-}
-
-// Index of the pose nearest in time to t within max_diff, if any (poses in time order).
-std::optional<size_t> nearestPose(const Trajectory& poses, double t, double max_diff) {
-  const auto later = std::lower_bound(poses.begin(), poses.end(), t,
-                                      [](const StampedPose& p, double time) { return p.timestamp < time; });
-  std::optional<size_t> best;
-  double best_dt = max_diff;
-  for (auto it : {later, later == poses.begin() ? poses.end() : later - 1}) {
-    if (it == poses.end()) continue;
-    const double dt = std::abs(it->timestamp - t);
-    if (dt <= best_dt) best_dt = dt, best = static_cast<size_t>(it - poses.begin());
-  }
-  return best;
+// Index of the time nearest t within max_diff, if any (times in order).
+std::optional<size_t> nearestWithin(const std::vector<double>& times, double t, double max_diff) {
+  if (times.empty()) return std::nullopt;
+  const size_t k = nearestTimeIndex(times, t);
+  if (std::abs(times[k] - t) > max_diff) return std::nullopt;
+  return k;
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -64,8 +52,8 @@ double gapAllowanceM(double path_since_board_m) { return std::max(0.005, 0.01 * 
 std::vector<BoardViewFrame> boardViewFrames(const std::vector<double>& frame_timestamps, const Trajectory& groundtruth,
                                             const Trajectory& estimate, const CameraModel& camera,
                                             const ChessboardTarget& target, double max_diff) {
-  requireTimeOrder(groundtruth, "ground truth");
-  requireTimeOrder(estimate, "trajectory.txt");
+  const std::vector<double> t_groundtruth = timestampsInOrder(groundtruth, "ground truth");
+  const std::vector<double> t_estimate = timestampsInOrder(estimate, "trajectory.txt");
   double own_pose = max_diff;  // how near in time the estimate's pose of a frame is
   for (size_t k = 1; k < frame_timestamps.size(); ++k)
     if (const double dt = frame_timestamps[k] - frame_timestamps[k - 1]; dt > 0) own_pose = std::min(own_pose, dt / 4);
@@ -74,7 +62,7 @@ std::vector<BoardViewFrame> boardViewFrames(const std::vector<double>& frame_tim
   std::optional<Vec3> last_centre;
   for (size_t k = 0; k < frame_timestamps.size(); ++k) {
     const double t = frame_timestamps[k];
-    const auto truth = nearestPose(groundtruth, t, max_diff);
+    const auto truth = nearestWithin(t_groundtruth, t, max_diff);
     if (!truth) continue;
     const SE3& T_world_camera = groundtruth[*truth].T_world_camera;
     BoardViewFrame f;
@@ -82,7 +70,7 @@ std::vector<BoardViewFrame> boardViewFrames(const std::vector<double>& frame_tim
     f.corners_in_view = boardCornersInView(camera, corners_world, T_world_camera);
     if (last_centre) f.step_m = (T_world_camera.t() - *last_centre).norm();
     last_centre = T_world_camera.t();
-    if (const auto posed = nearestPose(estimate, t, own_pose))
+    if (const auto posed = nearestWithin(t_estimate, t, own_pose))
       f.error_m = (estimate[*posed].T_world_camera.t() - T_world_camera.t()).norm();
     frames.push_back(f);
   }
