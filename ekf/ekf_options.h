@@ -181,6 +181,10 @@ struct StartOptions {
   double manual_orientation_sigma = 0.02;  // per quaternion component, for --init manual
   double velocity_sigma = 0.0;          // m/s
   double angular_velocity_sigma = 0.0;  // rad/s
+  // A restart from the board after a loss: its velocity is the board's motion between two frames
+  // running, to within these.
+  double restart_velocity_sigma = 0.05;         // m/s
+  double restart_angular_velocity_sigma = 0.1;  // rad/s
   // --init none: nothing tells the first camera's motion, which a hand-held camera has (tum_fr1_rpy
   // turns 3.7 degrees between its first two frames). Given per frame interval, as Civera 2010's
   // 0.025 rad a frame: velocity std = move / dt, set once the first interval dt is known.
@@ -194,6 +198,10 @@ struct StartOptions {
     v("manual_orientation_sigma", manual_orientation_sigma, "first quaternion std per component for --init manual");
     v("velocity_sigma", velocity_sigma, "m/s, first velocity std (board, groundtruth, manual)");
     v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std (board, groundtruth, manual)");
+    v("restart_velocity_sigma", restart_velocity_sigma,
+      "m/s, velocity std of a restart after a loss (its velocity: the board's motion over two frames running)");
+    v("restart_angular_velocity_sigma", restart_angular_velocity_sigma,
+      "rad/s, angular velocity std of a restart after a loss (the board's turn over two frames running)");
     v("board_free_turn_per_frame", board_free_turn_per_frame,
       "rad, --init none: std of the turn over the first frame interval (angular velocity std = turn / dt)");
     v("board_free_move_per_frame", board_free_move_per_frame,
@@ -203,17 +211,30 @@ struct StartOptions {
 };
 
 // When a filter reports a frame lost instead of its extrapolation (SPEC section 4: never a made-up
-// pose): too few measurements for several frames running, or a camera position std beyond a bound.
+// pose): too few measurements for several frames running, a camera position std beyond a bound, or
+// matches far more at odds with the prediction than the run's own matches have been.
 // The filter runs on; its frames are posed again once it measures enough and is certain enough.
 struct ReportingOptions {
   int min_measured = 4;              // measurements a frame (points and board corners) for a well-measured frame
   int max_weak_frames = 3;           // this many weakly measured frames running: lost
   double max_position_sigma = 0.05;  // m; a larger camera position std (largest axis): lost (not board-free)
+  // The matches' NIS per dof against its median over the last innovation_window frames with
+  // matches (at least kMinInnovationHistory of them since the start): the innovation covariance
+  // as assumed is no yardstick (SceneLib's 1 px and motion noise put a good frame's NIS per dof at
+  // 0.001-0.01 on the renders), the run's own level is. A look-alike matched a few pixels off, which
+  // then carries the pose, raises it 50 to 400 times in its frame (board_leaves seed 7: 237 times,
+  // the error 18 -> 59 mm); good frames of 42 renders rose at most 40 times. 0: off.
+  double max_innovation_jump = 50;
+  int innovation_window = 30;        // frames with matches the run's innovation level is the median of
   template <class V>
   void visit(V& v) {
     v("min_measured", min_measured, "measurements a frame (points and board corners) for a well-measured frame");
     v("max_weak_frames", max_weak_frames, "this many weakly measured frames running: the frames are lost");
     v("max_position_sigma", max_position_sigma, "m; a larger camera position std (largest axis): lost");
+    v("max_innovation_jump", max_innovation_jump,
+      "the matches' NIS per dof this many times its median over the run's last innovation_window frames: lost "
+      "(a mismatch moved the filter); 0: off");
+    v("innovation_window", innovation_window, "frames with matches the run's innovation level is the median of");
   }
   void check() const;
 };

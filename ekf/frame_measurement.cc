@@ -40,10 +40,11 @@ double tauThreshold(double others_d2, int dof, double f_quantile, double chi2_th
 }
 
 // Joint compatibility among each searched feature's candidates, then each match against the
-// others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order.
+// others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order,
+// and the kept matches' joint NIS in *nis.
 std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointObservation>& searched,
                                       const std::vector<std::vector<Vec2>>& candidates_uv,
-                                      const ActiveSearchOptions& so) {
+                                      const ActiveSearchOptions& so, double* nis) {
   std::vector<Vec2> predicted;
   for (const PointObservation& o : searched) predicted.push_back(o.h.uv_distorted);
   const std::vector<int> choice = jointCompatibleAssociation(
@@ -60,14 +61,17 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
   // edge drifts a few pixels a frame, inside its own (large, at 10 fps) ellipse and jointly
   // compatible, yet it disagrees with the rest; drop the worst such match until all agree.
   const double consistency_threshold = chiSquaredQuantile(2, so.consistency_gate);
-  while (observations.size() > 2) {
+  *nis = 0;
+  while (!observations.empty()) {
     const int m = static_cast<int>(observations.size());
     const Eigen::LDLT<Eigen::MatrixXd> S(innovationCovariance(state, observations, so.pixel_sigma));
     Eigen::VectorXd nu(2 * m);
     for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
     const Eigen::VectorXd S_inv_nu = S.solve(nu);
-    const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
     const double joint = nu.dot(S_inv_nu);
+    *nis = joint;
+    if (m <= 2) break;
+    const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
     const bool tau = so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor;
     const double f_quantile = tau ? fisherQuantile2(2 * m - 2, so.consistency_gate) : 0;
     int worst = -1;
@@ -186,12 +190,15 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     };
     kept = onePointRansacUpdate(state, searched, predict, *ransac, so.pixel_sigma, *rng);
   } else {
-    kept = jointlyCompatible(state, searched, candidates_uv, so);
+    kept = jointlyCompatible(state, searched, candidates_uv, so, &out.nis);
     std::vector<PointObservation> observations;
     for (size_t k : kept) observations.push_back(searched[k]);
     // An innovation covariance that is not positive definite means the filter's numbers broke: no
     // update, and the frame counts as unmeasured (the health check then ends the run of frames).
-    if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
+    if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) {
+      out.nis = 0;
+      return out;
+    }
   }
   for (size_t k : kept) {
     FeatureSearch& s = out.features[searched_slot[k]];

@@ -33,6 +33,9 @@ struct FeatureSearch {
 struct FrameMeasurement {
   int visible = 0;  // points predicted inside the image
   int matched = 0;  // points used in the update
+  // The matches' joint NIS before the update, nu^T S^-1 nu over their 2 * matched dof (0 without
+  // joint compatibility's matching, or with no match).
+  double nis = 0;
   std::vector<FeatureSearch> features;  // every visible point, in feature-list order
 };
 

@@ -1,10 +1,12 @@
 #pragma once
 // Whether an EKF back-end reports this frame's pose or calls the frame lost (SPEC section 4: never
-// a made-up pose): a filter that has measured too little for several frames, or whose camera
-// position has grown too uncertain, is extrapolating, not tracking. The filter itself runs on, but
-// its frames stay lost until something absolute anchors it again (the board, or a restart): new
-// features mapped from a drifted pose agree with it, and would shrink its covariance around the
-// wrong place.
+// a made-up pose): a filter that has measured too little for several frames, whose camera
+// position has grown too uncertain, or whose matches jump far beyond the run's own innovation
+// level (a mismatch moved it), is extrapolating, not tracking. Its frames stay lost until
+// something absolute anchors it again (hybrid: the board's corners; monoslam: a restart from the
+// board, or a board-free map's relocalisation): new features mapped from a drifted pose agree
+// with it, and would shrink its covariance around the wrong place.
+#include <deque>
 #include <string>
 
 #include "ekf/ekf_options.h"
@@ -16,17 +18,25 @@ class PoseReporting {
  public:
   explicit PoseReporting(const ReportingOptions& options) : options_(options) {}
   // Why this frame's pose is not reported ("" if it is), given its measurements (points and board
-  // corners), whether the board anchored it in this frame, and the filter after its update.
-  std::string weakness(int measured, bool anchored, const EkfState& state);
+  // corners), the joint NIS of its matched map features over its dof (0 with none; measureFeatures),
+  // whether the board anchored it in this frame, and the filter after its update.
+  std::string weakness(int measured, double nis, int nis_dof, bool anchored, const EkfState& state);
+  // The filter (re)started: nothing of the run before counts.
   void reset() {
     weak_frames_ = 0;
     lost_.clear();
+    nis_per_dof_.clear();
   }
 
  private:
+  // Why the innovations are out of line with the run's own level ("" if they are not); keeps
+  // this frame's in the history.
+  std::string innovationJump(double nis, int nis_dof);
+
   ReportingOptions options_;
   int weak_frames_ = 0;
   std::string lost_;  // why the frames are lost until the next anchor; "" while tracking
+  std::deque<double> nis_per_dof_;  // the last innovation_window frames' with matches
 };
 
 }  // namespace slamcmp

@@ -225,7 +225,8 @@ FrameResult HybridTracker::track(const Frame& frame) {
   }
   result.measured = measurement.matched + static_cast<int>(board.observations.size()) + points_measured;
   result.features = static_cast<int>(slam_->features().size());
-  const std::string weak = reporting_.weakness(result.measured, !board.observations.empty(), slam_->state());
+  const std::string weak = reporting_.weakness(result.measured, measurement.nis, 2 * measurement.matched,
+                                               !board.observations.empty(), slam_->state());
   if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting
     result.status = TrackStatus::Lost;
     result.reason = weak;

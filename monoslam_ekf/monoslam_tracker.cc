@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/chessboard.h"
 #include "core/error.h"
@@ -110,19 +111,37 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
     T_world_camera = boardPose(target_.cornersWorld(), xy_normalised, 0.5 * (camera_.fx + camera_.fy), {})
                          .T_camera_board.inverse();
   } else {
+    restart_view_.reset();
     *reason = "no board seen";
     return false;
+  }
+  // A restart after a loss (SceneLib has none) may come mid-turn, where a camera taken for still
+  // loses the board's corners again (wall_turn turns back at 0.4 rad/s): it waits for the board in
+  // a second frame running and starts moving as the board moved between the two.
+  Vec3 v_world = Vec3::Zero(), w_camera = Vec3::Zero();
+  if (ever_started_) {
+    const std::optional<TimedPose> previous = std::exchange(restart_view_, TimedPose{frame.timestamp, T_world_camera});
+    const double dt = previous ? frame.timestamp - previous->timestamp : 0;
+    if (!(dt > 0)) {
+      *reason = "board seen: the restart waits for the next frame's view to know the motion";
+      return false;
+    }
+    v_world = (T_world_camera.t() - previous->T_world_camera.t()) / dt;
+    w_camera = rotvecFromRotation(previous->T_world_camera.R().transpose() * T_world_camera.R()) / dt;
   }
 
   const StartOptions& s = options_.start;
   const bool manual = init_ == InitSource::Manual && !ever_started_;
   const double sigma_r = manual ? s.manual_position_sigma : s.position_sigma;
   const double sigma_q = manual ? s.manual_orientation_sigma : s.orientation_sigma;
+  const double sigma_v = ever_started_ ? s.restart_velocity_sigma : s.velocity_sigma;
+  const double sigma_w = ever_started_ ? s.restart_angular_velocity_sigma : s.angular_velocity_sigma;
   Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
   P0.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec4::Constant(sigma_q * sigma_q),
-      Vec3::Constant(s.velocity_sigma * s.velocity_sigma),
-      Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
+      Vec3::Constant(sigma_v * sigma_v), Vec3::Constant(sigma_w * sigma_w);
   slam_.reset(T_world_camera, P0);
+  slam_.state().x().segment<3>(EkfState::kV) = v_world;
+  slam_.state().x().segment<3>(EkfState::kW) = w_camera;
 
   // The known features: the board's outer inner corners, exact, with patches from this frame (at
   // the detected corners, or where the given pose projects them when the board is not detected).
@@ -144,6 +163,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
 }
 
 void MonoslamTracker::started(double timestamp) {
+  restart_view_.reset();
   trusted_id_limit_ = slam_.nextFeatureId();  // the start's features (board corners) included
   running_ = true;
   ever_started_ = true;
@@ -209,6 +229,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
 }
 
 FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
+  FrameMeasurement measurement;  // none in a start's frame
   if (!running_) {
     std::string reason;
     if (!start(frame, &reason)) {
@@ -230,7 +251,6 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       }
     }
     last_timestamp_ = frame.timestamp;
-    FrameMeasurement measurement;
     {
       const StageTimer timer(&result.stages, "features");
       measurement = slam_.measure(frame.grey);
@@ -266,9 +286,17 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
                                ? relocalised
                                : trusted_matched_ >= options_.filter.reporting.min_measured;
   const bool anchored = init_ == InitSource::None && found_again;
-  if (const std::string weak = reporting_.weakness(result.measured, anchored, slam_.state()); !weak.empty()) {
-    result.status = TrackStatus::Lost;  // the filter runs on; its extrapolation is not a pose
+  if (const std::string weak =
+          reporting_.weakness(result.measured, measurement.nis, 2 * measurement.matched, anchored, slam_.state());
+      !weak.empty()) {
+    result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;
+    // Nothing but the board anchors a map started from it: its filter restarts from the board's
+    // next view rather than run on unanchored. A board-free one runs on (relocalisation above).
+    if (init_ != InitSource::None) {
+      running_ = false;
+      lost_reason_ = weak;
+    }
     return result;
   }
   trusted_id_limit_ = slam_.nextFeatureId();

@@ -56,6 +56,11 @@ class MonoslamTracker : public Tracker {
   std::string lost_reason_;
   std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay
   std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin
+  struct TimedPose {
+    double timestamp = 0;
+    SE3 T_world_camera;
+  };
+  std::optional<TimedPose> restart_view_;  // a restart's board view in the frame before, for its motion
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
   bool unknown_first_motion_ = false;  // --init none, before the second frame (or after a relocalisation)

@@ -19,6 +19,7 @@
 #include "core/trajectory.h"
 #include "datasets/synth_sequence.h"
 #include "eval/metrics/associate.h"
+#include "eval/metrics/board_visibility.h"
 #include "eval/metrics/nees.h"
 #include "eval/metrics/trajectory_metrics.h"
 #include "tests/test_util.h"
@@ -66,6 +67,13 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
   return run;
 }
 
+// The largest position error of the posed frames, metres.
+double worstError(const RunResult& run) {
+  double worst = 0;
+  for (double e : run.error_m) worst = std::max(worst, e);
+  return worst;
+}
+
 // ATE RMSE (m) after Sim(3) alignment onto the sequence's ground truth.
 double sim3Ate(const std::string& path, const RunResult& run) {
   EvalOptions options;
@@ -74,10 +82,11 @@ double sim3Ate(const std::string& path, const RunResult& run) {
 }
 
 // The first `frames` of `preset` at one sample per pixel (fast, still textured) into `dir`.
-void renderFast(const std::string& preset, int frames, const std::string& dir) {
+void renderFast(const std::string& preset, int frames, const std::string& dir, int seed = 1) {
   SynthOptions options;
   options.preset = preset;
   options.frames = frames;
+  options.seed = seed;
   options.supersample = 1;
   writeSyntheticSequence(options, dir);
 }
@@ -291,9 +300,7 @@ TEST(MonoslamTracker, Tv4MotionAlongTheOpticalAxisUnderOneCentimetre) {
   const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
   EXPECT_EQ(run.tracked, run.frames);
   EXPECT_LT(run.ateRmse(), 0.01);
-  double worst = 0;
-  for (double e : run.error_m) worst = std::max(worst, e);
-  EXPECT_LT(worst, 0.02);
+  EXPECT_LT(worstError(run), 0.02);
 }
 
 // A board-free map's scale is the gauge its first features fix (inverse_depth.scale_gauge_sigma):
@@ -356,6 +363,58 @@ TEST(MonoslamTracker, BoardFreeStartOnFourPresetsWithinTwiceTheBoardStartedSim3E
       anywhere.filter.feature_init.distinct = "off";
       EXPECT_LT(runTracker(dir.path(), InitSource::None, std::nullopt, -1, anywhere).tracked, none.frames / 2);
     }
+  }
+}
+
+// board_leaves seed 7: as the board leaves, a feature started on an occluding edge (a box against
+// the plain wall) is matched 9 px from its place, and with the board's corners gone it carries
+// the pose (full render: 3 -> 20 -> 59 mm in frames 94-98, then up to 11 cm). That frame's
+// matches innovate about 240 times the run's own level (NIS per dof; reporting.max_innovation_jump
+// 50): its frames are lost from there, not posed wrong. Measured here (one sample per pixel): 98
+// of 110 posed, at most 19 mm; without the check all 110, 12 of them over 5 cm (up to 96 mm).
+TEST(MonoslamTracker, MismatchCarryingThePoseIsReportedLost) {
+  test::TempDir dir;
+  renderFast("board_leaves", 110, dir.path(), 7);
+  const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
+  EXPECT_GE(run.tracked, 90);
+  EXPECT_LT(worstError(run), 0.05);
+  const auto jump = std::find_if(run.results.begin(), run.results.end(), [](const FrameResult& r) {
+    return r.reason.find("times the run's innovation level") != std::string::npos;
+  });
+  EXPECT_NE(jump, run.results.end()) << "the lost frames name the innovation jump";
+
+  MonoslamOptions unchecked;
+  unchecked.filter.reporting.max_innovation_jump = 0;
+  const RunResult plain = runTracker(dir.path(), InitSource::Board, std::nullopt, -1, unchecked);
+  EXPECT_EQ(plain.tracked, plain.frames);
+  EXPECT_GT(worstError(plain), 0.05);  // what the check keeps out of the trajectory
+}
+
+// wall_turn seed 1: lost facing the other wall (too few measurements), the filter restarts from
+// the board when the board is wholly back. The first frame of the return gives the restart its
+// motion (the camera is still turning, 0.4 rad/s, which a restart taken for still would not
+// follow); from the next every frame is posed. Measured: 1.0-3.1 mm over frames 195-229 (before
+// session 27 a board-started filter, once lost, stayed lost to the end).
+TEST(MonoslamTracker, RestartsFromTheBoardWhenItReturns) {
+  test::TempDir dir;
+  renderFast("wall_turn", 230, dir.path(), 1);
+  const Sequence seq = openSequence(dir.path());
+  const std::vector<Vec3> corners = seq.target->cornersWorld();
+  const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
+  ASSERT_EQ(run.frames, 230);
+  int returned = -1;  // the first frame with the whole board in view after frames with none
+  bool gone = false;
+  for (int i = 0; i < run.frames && returned < 0; ++i) {
+    const int in_view = boardCornersInView(*seq.camera, corners, (*seq.groundtruth)[i].T_world_camera);
+    gone = gone || in_view == 0;
+    if (gone && in_view == static_cast<int>(corners.size())) returned = i;
+  }
+  ASSERT_GT(returned, 0);
+  EXPECT_FALSE(run.results[returned - 1].T_world_camera) << "lost facing the other wall";
+  for (int i = returned + 1; i < run.frames; ++i) {
+    ASSERT_TRUE(run.results[i].T_world_camera) << "frame " << i << ": " << run.results[i].reason;
+    EXPECT_LT((run.results[i].T_world_camera->t() - (*seq.groundtruth)[i].T_world_camera.t()).norm(), 0.01)
+        << "frame " << i;
   }
 }
 
