@@ -46,7 +46,7 @@ struct HybridOptions {
   // camera's) leave search ellipses where the room's features match look-alikes once the board has
   // gone (board_leaves seed 4: 46 mm off in one frame), and a floor of 1 and 2 lets through two of
   // those (wall_turn seeds 1 and 3, 4-5 times the gap's allowance). A frame whose camera position
-  // std exceeds 5 cm is reported lost, as monoslam's: with the tracked features (tracked_motion.h)
+  // std exceeds 3 cm is reported lost, as monoslam's: with the tracked features (tracked_motion.h)
   // the frames facing wall_turn's other wall are posed, within the gap's allowance on every seed of
   // 14 (with the patch features below). Without them (configs/hybrid_patches.yaml) the bound is
   // 1 cm: 3-6 patch features a frame took the pose there 2.5 -> 11 mm off in ten frames. A new
