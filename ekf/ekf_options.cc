@@ -108,8 +108,8 @@ void StartOptions::check() const {
                                       {"manual_orientation_sigma", manual_orientation_sigma},
                                       {"velocity_sigma", velocity_sigma},
                                       {"angular_velocity_sigma", angular_velocity_sigma},
-                                      {"restart_velocity_sigma", restart_velocity_sigma},
-                                      {"restart_angular_velocity_sigma", restart_angular_velocity_sigma},
+                                      {"restart_move_per_frame", restart_move_per_frame},
+                                      {"restart_turn_per_frame", restart_turn_per_frame},
                                       {"board_free_turn_per_frame", board_free_turn_per_frame},
                                       {"board_free_move_per_frame", board_free_move_per_frame}})
     require(sigma >= 0 && std::isfinite(sigma), field, "must be a finite standard deviation >= 0");
@@ -119,9 +119,10 @@ void ReportingOptions::check() const {
   require(min_measured >= 0, "min_measured", "must be >= 0");
   require(max_weak_frames >= 1, "max_weak_frames", "must be >= 1");
   require(max_position_sigma > 0, "max_position_sigma", "must be positive");
-  require(max_innovation_jump >= 0 && std::isfinite(max_innovation_jump), "max_innovation_jump",
-          "must be finite and >= 0");
-  require(innovation_window >= 1, "innovation_window", "must be >= 1");
+  require(max_innovation_jump == 0 || (max_innovation_jump > 1 && std::isfinite(max_innovation_jump)),
+          "max_innovation_jump", "must be 0 (off) or a finite factor above 1");
+  require(innovation_window >= kMinInnovationHistory, "innovation_window",
+          "must be at least " + std::to_string(kMinInnovationHistory) + " (the frames the check waits for)");
 }
 
 // Board-free start (issue 18).

@@ -181,10 +181,12 @@ struct StartOptions {
   double manual_orientation_sigma = 0.02;  // per quaternion component, for --init manual
   double velocity_sigma = 0.0;          // m/s
   double angular_velocity_sigma = 0.0;  // rad/s
-  // A restart from the board after a loss: its velocity is the board's motion between two frames
-  // running, to within these.
-  double restart_velocity_sigma = 0.05;         // m/s
-  double restart_angular_velocity_sigma = 0.1;  // rad/s
+  // A restart from the board after a loss: its velocities are the board's motion between two
+  // frames running (motion_model.h's velocityBetween), to within these over the frame interval
+  // dt (velocity std = move / dt): the two board poses' error, which a shorter interval makes
+  // a larger velocity error.
+  double restart_move_per_frame = 0.005;  // m
+  double restart_turn_per_frame = 0.01;   // rad
   // --init none: nothing tells the first camera's motion, which a hand-held camera has (tum_fr1_rpy
   // turns 3.7 degrees between its first two frames). Given per frame interval, as Civera 2010's
   // 0.025 rad a frame: velocity std = move / dt, set once the first interval dt is known.
@@ -198,10 +200,10 @@ struct StartOptions {
     v("manual_orientation_sigma", manual_orientation_sigma, "first quaternion std per component for --init manual");
     v("velocity_sigma", velocity_sigma, "m/s, first velocity std (board, groundtruth, manual)");
     v("angular_velocity_sigma", angular_velocity_sigma, "rad/s, first angular velocity std (board, groundtruth, manual)");
-    v("restart_velocity_sigma", restart_velocity_sigma,
-      "m/s, velocity std of a restart after a loss (its velocity: the board's motion over two frames running)");
-    v("restart_angular_velocity_sigma", restart_angular_velocity_sigma,
-      "rad/s, angular velocity std of a restart after a loss (the board's turn over two frames running)");
+    v("restart_move_per_frame", restart_move_per_frame,
+      "m, a restart after a loss: std of the board's move over the frame interval its velocity is taken from");
+    v("restart_turn_per_frame", restart_turn_per_frame,
+      "rad, a restart after a loss: std of the board's turn over the frame interval its angular velocity is taken from");
     v("board_free_turn_per_frame", board_free_turn_per_frame,
       "rad, --init none: std of the turn over the first frame interval (angular velocity std = turn / dt)");
     v("board_free_move_per_frame", board_free_move_per_frame,
@@ -223,13 +225,15 @@ struct ReportingOptions {
   // and 18: 1-6 frames over 5 cm, up to 8 cm); at 2 cm the first frames after a start are lost.
   double max_position_sigma = 0.03;
   // The matches' NIS per dof against its median over the last innovation_window frames with
-  // matches (at least kMinInnovationHistory of them since the start): the innovation covariance
-  // as assumed is no yardstick (SceneLib's 1 px and motion noise put a good frame's NIS per dof at
-  // 0.001-0.01 on the renders), the run's own level is. A look-alike matched a few pixels off, which
-  // then carries the pose, raises it 50 to 400 times in its frame (board_leaves seed 7: 237 times,
-  // the error 18 -> 59 mm); good frames of 42 renders rose at most 40 times. 0: off.
+  // matches (once there are kMinInnovationHistory of them since the start), in frames nothing
+  // absolute anchors: the innovation covariance as assumed is no yardstick (SceneLib's 1 px and
+  // motion noise put a good frame's NIS per dof at 0.001-0.01 on the renders), the run's own level
+  // is. A look-alike matched a few pixels off that then carries the pose raised it 237 times on
+  // board_leaves seed 7 (the error 18 -> 59 mm) and 78-102 times on wall_turn seeds 4 and 12
+  // (21 and 46 mm off); good frames of 42 renders rose at most about 40 times. 0: off.
   double max_innovation_jump = 50;
   int innovation_window = 30;        // frames with matches the run's innovation level is the median of
+  static constexpr int kMinInnovationHistory = 10;  // frames with matches before the level is a yardstick
   template <class V>
   void visit(V& v) {
     v("min_measured", min_measured, "measurements a frame (points and board corners) for a well-measured frame");
@@ -238,7 +242,8 @@ struct ReportingOptions {
     v("max_innovation_jump", max_innovation_jump,
       "the matches' NIS per dof this many times its median over the run's last innovation_window frames: lost "
       "(a mismatch moved the filter); 0: off");
-    v("innovation_window", innovation_window, "frames with matches the run's innovation level is the median of");
+    v("innovation_window", innovation_window,
+      "frames with matches the run's innovation level is the median of (at least 10, the frames it waits for)");
   }
   void check() const;
 };

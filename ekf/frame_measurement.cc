@@ -200,6 +200,7 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
       return out;
     }
   }
+  if (!ransac) out.nis_dof = 2 * static_cast<int>(kept.size());
   for (size_t k : kept) {
     FeatureSearch& s = out.features[searched_slot[k]];
     s.outcome = SearchOutcome::Matched;

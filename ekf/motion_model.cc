@@ -38,6 +38,11 @@ CameraVector predictCamera(const CameraVector& x, double dt, const Eigen::Matrix
   return out;
 }
 
+CameraVelocity velocityBetween(const SE3& T_world_camera_from, const SE3& T_world_camera_to, double dt) {
+  return {(T_world_camera_to.t() - T_world_camera_from.t()) / dt,
+          rotvecFromRotation(T_world_camera_from.R().transpose() * T_world_camera_to.R()) / dt};
+}
+
 Eigen::Matrix<double, 6, 6> impulseCovariance(const MotionModelOptions& options, double dt) {
   Eigen::Matrix<double, 6, 6> Q = Eigen::Matrix<double, 6, 6>::Zero();
   const double scale = std::sqrt(dt / options.reference_rate);  // see MotionModelOptions

@@ -8,28 +8,22 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/statistics.h"
+
 namespace slamcmp {
 
-namespace {
-
-// Frames with matches before the run's innovation level is a yardstick.
-constexpr size_t kMinInnovationHistory = 10;
-
-}  // namespace
-
-std::string PoseReporting::innovationJump(double nis, int nis_dof) {
+std::string PoseReporting::innovationJump(double nis, int nis_dof, bool test) {
   if (nis_dof <= 0 || !std::isfinite(nis)) return "";
   const double level = nis / nis_dof;
   std::string why;
-  if (options_.max_innovation_jump > 0 && nis_per_dof_.size() >= kMinInnovationHistory) {
-    std::vector<double> history(nis_per_dof_.begin(), nis_per_dof_.end());
-    std::nth_element(history.begin(), history.begin() + history.size() / 2, history.end());
-    const double median = history[history.size() / 2];
-    if (level > options_.max_innovation_jump * median) {
+  if (test && options_.max_innovation_jump > 0 &&
+      nis_per_dof_.size() >= static_cast<size_t>(ReportingOptions::kMinInnovationHistory)) {
+    const double run_level = median(std::vector<double>(nis_per_dof_.begin(), nis_per_dof_.end()));
+    if (level > options_.max_innovation_jump * run_level) {
       std::ostringstream out;
-      out << "matches " << std::fixed << std::setprecision(0) << level / median
+      out << "matches " << std::fixed << std::setprecision(0) << level / run_level
           << " times the run's innovation level (NIS per dof " << std::setprecision(3) << level << " against "
-          << median << "): a mismatch moved the filter";
+          << run_level << "): a mismatch moved the filter";
       why = out.str();
     }
   }
@@ -58,7 +52,8 @@ std::string PoseReporting::weakness(int measured, double nis, int nis_dof, bool 
     lost_ = out.str();
     return lost_;
   }
-  lost_ = innovationJump(nis, nis_dof);
+  // A frame the board anchors is posed from it whatever one room feature did; its level still counts.
+  lost_ = innovationJump(nis, nis_dof, !anchored);
   return lost_;
 }
 

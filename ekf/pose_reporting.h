@@ -18,8 +18,9 @@ class PoseReporting {
  public:
   explicit PoseReporting(const ReportingOptions& options) : options_(options) {}
   // Why this frame's pose is not reported ("" if it is), given its measurements (points and board
-  // corners), the joint NIS of its matched map features over its dof (0 with none; measureFeatures),
-  // whether the board anchored it in this frame, and the filter after its update.
+  // corners), the joint NIS of its matched map features and its dof (FrameMeasurement; dof 0 where
+  // none was computed), whether something absolute anchored it in this frame (the board; for a
+  // board-free map, its own features found again), and the filter after its update.
   std::string weakness(int measured, double nis, int nis_dof, bool anchored, const EkfState& state);
   // The filter (re)started: nothing of the run before counts.
   void reset() {
@@ -29,9 +30,9 @@ class PoseReporting {
   }
 
  private:
-  // Why the innovations are out of line with the run's own level ("" if they are not); keeps
-  // this frame's in the history.
-  std::string innovationJump(double nis, int nis_dof);
+  // Why the innovations are out of line with the run's own level ("" if they are not, or if not
+  // `test`ed); keeps this frame's in the history.
+  std::string innovationJump(double nis, int nis_dof, bool test);
 
   ReportingOptions options_;
   int weak_frames_ = 0;

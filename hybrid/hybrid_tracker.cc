@@ -225,7 +225,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
   }
   result.measured = measurement.matched + static_cast<int>(board.observations.size()) + points_measured;
   result.features = static_cast<int>(slam_->features().size());
-  const std::string weak = reporting_.weakness(result.measured, measurement.nis, 2 * measurement.matched,
+  const std::string weak = reporting_.weakness(result.measured, measurement.nis, measurement.nis_dof,
                                                !board.observations.empty(), slam_->state());
   if (!weak.empty()) {  // the filter runs on; this frame's pose is not worth reporting
     result.status = TrackStatus::Lost;

@@ -8,6 +8,7 @@
 #include "core/chessboard.h"
 #include "core/error.h"
 #include "core/stage_timer.h"
+#include "ekf/motion_model.h"
 #include "geometry/homography_pose.h"
 
 namespace slamcmp {
@@ -92,12 +93,15 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   if (init_ == InitSource::None) return startWithoutMap(frame, reason);
   std::vector<cv::Point2f> corners;
   const bool board_seen = board_detector_->detect(frame.grey, &corners);
-  // A symmetric board's origin: the one nearest where the given pose, or the last pose before a
-  // loss, puts it (else chooseSymmetricOrder's convention).
+  // A symmetric board's origin: the one nearest where the given pose, the restart's first view
+  // or the last pose before a loss puts it (else chooseSymmetricOrder's convention).
   const bool use_given_pose = init_ != InitSource::Board && !ever_started_;
-  if (board_seen && target_.symmetric() && (use_given_pose || last_pose_))
-    chooseSymmetricOrder(target_, corners,
-                         projectBoardCorners(camera_, target_, use_given_pose ? *T_world_camera_init_ : *last_pose_));
+  std::optional<SE3> reference;
+  if (use_given_pose) reference = T_world_camera_init_;
+  else if (restart_view_) reference = restart_view_->T_world_camera;
+  else reference = last_pose_;
+  if (board_seen && target_.symmetric() && reference)
+    chooseSymmetricOrder(target_, corners, projectBoardCorners(camera_, target_, *reference));
   start_corners_.clear();
   if (board_seen)
     for (const cv::Point2f& c : corners) start_corners_.emplace_back(c.x, c.y);
@@ -118,7 +122,9 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   // A restart after a loss (SceneLib has none) may come mid-turn, where a camera taken for still
   // loses the board's corners again (wall_turn turns back at 0.4 rad/s): it waits for the board in
   // a second frame running and starts moving as the board moved between the two.
-  Vec3 v_world = Vec3::Zero(), w_camera = Vec3::Zero();
+  const StartOptions& s = options_.start;
+  CameraVelocity velocity;
+  double sigma_v = s.velocity_sigma, sigma_w = s.angular_velocity_sigma;
   if (ever_started_) {
     const std::optional<TimedPose> previous = std::exchange(restart_view_, TimedPose{frame.timestamp, T_world_camera});
     const double dt = previous ? frame.timestamp - previous->timestamp : 0;
@@ -126,22 +132,26 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
       *reason = "board seen: the restart waits for the next frame's view to know the motion";
       return false;
     }
-    v_world = (T_world_camera.t() - previous->T_world_camera.t()) / dt;
-    w_camera = rotvecFromRotation(previous->T_world_camera.R().transpose() * T_world_camera.R()) / dt;
+    velocity = velocityBetween(previous->T_world_camera, T_world_camera, dt);
+    // Two views that disagree (a detection gone wrong in one) start afresh from this one.
+    const HealthOptions& h = options_.filter.health;
+    if (velocity.v_world.norm() > h.max_speed || velocity.w_camera.norm() > h.max_angular_speed) {
+      *reason = "board seen: its motion since the last view is beyond the health bounds; the restart waits";
+      return false;
+    }
+    sigma_v = s.restart_move_per_frame / dt;
+    sigma_w = s.restart_turn_per_frame / dt;
   }
 
-  const StartOptions& s = options_.start;
   const bool manual = init_ == InitSource::Manual && !ever_started_;
   const double sigma_r = manual ? s.manual_position_sigma : s.position_sigma;
   const double sigma_q = manual ? s.manual_orientation_sigma : s.orientation_sigma;
-  const double sigma_v = ever_started_ ? s.restart_velocity_sigma : s.velocity_sigma;
-  const double sigma_w = ever_started_ ? s.restart_angular_velocity_sigma : s.angular_velocity_sigma;
   Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
   P0.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec4::Constant(sigma_q * sigma_q),
       Vec3::Constant(sigma_v * sigma_v), Vec3::Constant(sigma_w * sigma_w);
   slam_.reset(T_world_camera, P0);
-  slam_.state().x().segment<3>(EkfState::kV) = v_world;
-  slam_.state().x().segment<3>(EkfState::kW) = w_camera;
+  slam_.state().x().segment<3>(EkfState::kV) = velocity.v_world;
+  slam_.state().x().segment<3>(EkfState::kW) = velocity.w_camera;
 
   // The known features: the board's outer inner corners, exact, with patches from this frame (at
   // the detected corners, or where the given pose projects them when the board is not detected).
@@ -164,6 +174,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
 
 void MonoslamTracker::started(double timestamp) {
   restart_view_.reset();
+  diverged_ = false;
   trusted_id_limit_ = slam_.nextFeatureId();  // the start's features (board corners) included
   running_ = true;
   ever_started_ = true;
@@ -193,6 +204,7 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
   slam_.relocate(*T_world_camera, P, trusted_id_limit_);
   unknown_first_motion_ = true;
   running_ = true;
+  diverged_ = false;
   reporting_.reset();
   frames_unmeasured_ = 0;
   last_timestamp_ = frame.timestamp;
@@ -235,8 +247,14 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     if (!start(frame, &reason)) {
       result.status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
       result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
+      if (want_overlay_ && !start_corners_.empty()) {  // a restart's first view of the board
+        result.overlay = FrameOverlay();
+        result.overlay->board_corners = start_corners_;
+      }
       return result;
     }
+    // The start's pose is measured by the board's corners (none for a given pose).
+    result.measured = static_cast<int>(start_corners_.size());
     slam_.updateMap(frame.grey, visible_);
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
@@ -270,6 +288,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     const std::string why = divergence();
     if (!why.empty()) {
       running_ = false;
+      diverged_ = true;
       lost_reason_ = why;
       result.status = TrackStatus::Lost;
       result.reason = why;
@@ -287,7 +306,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
                                : trusted_matched_ >= options_.filter.reporting.min_measured;
   const bool anchored = init_ == InitSource::None && found_again;
   if (const std::string weak =
-          reporting_.weakness(result.measured, measurement.nis, 2 * measurement.matched, anchored, slam_.state());
+          reporting_.weakness(result.measured, measurement.nis, measurement.nis_dof, anchored, slam_.state());
       !weak.empty()) {
     result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;
@@ -310,7 +329,9 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
 }
 
 std::vector<MapPoint> MonoslamTracker::mapPoints() const {
-  if (!running_) return {};
+  // A filter lost by its reporting keeps its map until a restart replaces it; one that diverged
+  // has none worth writing.
+  if (!ever_started_ || diverged_) return {};
   return slam_.mapPoints();
 }
 

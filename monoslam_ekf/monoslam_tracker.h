@@ -52,6 +52,7 @@ class MonoslamTracker : public Tracker {
   EkfSlam slam_;
   PoseReporting reporting_;
   bool running_ = false;
+  bool diverged_ = false;  // the filter stopped on its health check (no map worth writing)
   bool ever_started_ = false;
   std::string lost_reason_;
   std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay

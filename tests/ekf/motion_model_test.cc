@@ -36,6 +36,20 @@ TEST(MotionModel, ConstantVelocityIsExact) {
   EXPECT_NEAR(y.segment<4>(3).norm(), 1.0, 1e-14);
 }
 
+// velocityBetween inverts the prediction: the velocities it gives take the first pose to the
+// second through predictCamera, for a turn of 0.3 rad and a move of 4 cm in a tenth of a second.
+TEST(MotionModel, VelocityBetweenTwoPosesIsWhatThePredictionTakes) {
+  const SE3 from = SE3::fromRotvec(Vec3(0.1, 0.3, -0.2), Vec3(0.1, -0.2, -0.8));
+  const SE3 to = SE3::fromRotvec(Vec3(0.25, 0.1, -0.1), Vec3(0.13, -0.18, -0.79));
+  const double dt = 0.1;
+  const CameraVelocity velocity = velocityBetween(from, to, dt);
+  CameraVector x;
+  x << from.t(), quatVector(from.quat()), velocity.v_world, velocity.w_camera;
+  const CameraVector y = predictCamera(x, dt, Eigen::Matrix<double, 6, 1>::Zero());
+  EXPECT_LT((y.head<3>() - to.t()).norm(), 1e-12);
+  EXPECT_LT(rotationAngle(quatFromVector(y.segment<4>(3)).toRotationMatrix().transpose() * to.R()), 1e-12);
+}
+
 TEST(MotionModel, PredictionGrowsCameraCovarianceAndKeepsCrossTerms) {
   EkfState state;
   Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Identity() * 1e-4;

@@ -1,6 +1,6 @@
 // PoseReporting's lost frames (ekf/pose_reporting.h), on hand-fed measurement counts and NIS: the
-// innovation jump against the run's own level, its warm-up, its history across anchors and
-// restarts, and the weakly measured frames.
+// innovation jump against the run's own level (core/statistics.h's median), its warm-up, its
+// history across anchors and restarts, and the weakly measured frames.
 #include "ekf/pose_reporting.h"
 
 #include <gtest/gtest.h>
@@ -27,14 +27,16 @@ std::string frame(PoseReporting& reporting, double level, bool anchored = false)
 TEST(PoseReporting, InnovationJumpAgainstTheRunsOwnLevel) {
   PoseReporting reporting{ReportingOptions{}};  // max_innovation_jump 50, over the last 30 frames
   for (int i = 0; i < 10; ++i) EXPECT_EQ(frame(reporting, i % 2 ? 0.008 : 0.012), "") << i;
-  EXPECT_EQ(frame(reporting, 0.45), "");  // 37 times the median (0.012): a hard frame, not a jump
-  const std::string why = frame(reporting, 0.7);  // 58 times
+  EXPECT_EQ(frame(reporting, 0.45), "");  // 45 times the median (0.01): a hard frame, not a jump
+  const std::string why = frame(reporting, 0.7);  // 58 times the median of eleven (0.012)
   EXPECT_NE(why.find("58 times the run's innovation level"), std::string::npos) << why;
   // Lost until something anchors the filter again, whatever the next frames measure.
   EXPECT_NE(frame(reporting, 0.01).find("not anchored since"), std::string::npos);
   // An anchor (hybrid: the board's corners) ends the loss and keeps the run's level: a jump is
   // caught at once, with no new warm-up.
   EXPECT_EQ(frame(reporting, 0.01, /*anchored=*/true), "");
+  // A frame the board anchors is posed whatever its room features innovate.
+  EXPECT_EQ(frame(reporting, 0.7, /*anchored=*/true), "");
   EXPECT_NE(frame(reporting, 0.7), "");
 }
 

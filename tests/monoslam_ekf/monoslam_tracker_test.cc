@@ -427,6 +427,9 @@ TEST(MonoslamTracker, RestartsFromTheBoardWhenItReturns) {
   }
   ASSERT_GT(returned, 0);
   EXPECT_FALSE(run.results[returned - 1].T_world_camera) << "lost facing the other wall";
+  EXPECT_FALSE(run.results[returned].T_world_camera);
+  EXPECT_NE(run.results[returned].reason.find("the restart waits for the next frame's view"), std::string::npos)
+      << run.results[returned].reason;
   for (int i = returned + 1; i < run.frames; ++i) {
     ASSERT_TRUE(run.results[i].T_world_camera) << "frame " << i << ": " << run.results[i].reason;
     EXPECT_LT((run.results[i].T_world_camera->t() - (*seq.groundtruth)[i].T_world_camera.t()).norm(), 0.01)
