@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/image.h"
+#include "ekf/ekf_update.h"
 
 #include "tests/ekf/plane_render.h"
 
@@ -112,6 +113,52 @@ TEST(FrameMeasurement, ConsistentMatchesAreAllKept) {
     EXPECT_EQ(m.matched, 9);
     EXPECT_LT(scene.state.r().norm(), 1e-4);
   }
+}
+
+// The matches' joint NIS is the prior's: nu^T S^-1 nu of the kept matches under the covariance
+// before the update, recomputed here from the prior state. With the slip used (no consistency
+// check) it is larger than without it; 1-point RANSAC computes none (dof 0).
+TEST(FrameMeasurement, JointNisOfTheKeptMatchesBeforeTheUpdate) {
+  const auto nisFromPrior = [](const EkfState& prior, const Scene& scene, const FrameMeasurement& m) {
+    std::vector<PointObservation> kept;
+    for (const FeatureSearch& s : m.features) {
+      if (s.outcome != SearchOutcome::Matched) continue;
+      PointObservation o;
+      o.offset = scene.features[s.index].offset;
+      EXPECT_TRUE(predictFeature(scene.camera, prior.x(), scene.features[s.index], &o.h));
+      o.z = s.uv_matched;
+      kept.push_back(o);
+    }
+    Eigen::VectorXd nu(2 * kept.size());
+    for (size_t k = 0; k < kept.size(); ++k) nu.segment<2>(2 * k) = kept[k].z - kept[k].h.uv_distorted;
+    return nu.dot(innovationCovariance(prior, kept, ActiveSearchOptions().pixel_sigma).ldlt().solve(nu));
+  };
+  Scene checked(6.0);
+  const EkfState checked_prior = checked.state;
+  const FrameMeasurement dropped = measureFeatures(checked.state, checked.features, checked.camera, checked.grey, {});
+  ASSERT_EQ(dropped.matched, 8);
+  EXPECT_EQ(dropped.nis_dof, 16);
+  EXPECT_NEAR(dropped.nis, nisFromPrior(checked_prior, checked, dropped), 1e-9 * (1 + dropped.nis));
+
+  Scene unchecked(6.0);
+  const EkfState unchecked_prior = unchecked.state;
+  ActiveSearchOptions loose;
+  loose.consistency_gate = 1 - 1e-12;
+  loose.joint_gate = 1 - 1e-12;
+  const FrameMeasurement used = measureFeatures(unchecked.state, unchecked.features, unchecked.camera, unchecked.grey, loose);
+  ASSERT_EQ(used.matched, 9);
+  EXPECT_EQ(used.nis_dof, 18);
+  EXPECT_NEAR(used.nis, nisFromPrior(unchecked_prior, unchecked, used), 1e-9 * (1 + used.nis));
+  EXPECT_GT(used.nis, 10 * dropped.nis);  // the 6 px slip
+
+  Scene ransac_scene(0.0);
+  OnePointRansacOptions ransac;
+  std::mt19937 rng(1);
+  const FrameMeasurement by_ransac = measureFeatures(ransac_scene.state, ransac_scene.features, ransac_scene.camera,
+                                                     ransac_scene.grey, {}, &ransac, &rng);
+  EXPECT_GT(by_ransac.matched, 0);
+  EXPECT_EQ(by_ransac.nis_dof, 0);
+  EXPECT_EQ(by_ransac.nis, 0);
 }
 
 }  // namespace
