@@ -366,6 +366,20 @@ TEST(MonoslamTracker, BoardFreeStartOnFourPresetsWithinTwiceTheBoardStartedSim3E
   }
 }
 
+// The board-started run on `preset` (one sample per pixel) poses at least `min_posed` frames and
+// none 5 cm off or more; with a check turned off (`without`) a frame is posed over 5 cm off.
+RunResult expectNoFrameOverFiveCentimetres(const std::string& preset, int frames, int seed, int min_posed,
+                                           const MonoslamOptions& without) {
+  test::TempDir dir;
+  renderFast(preset, frames, dir.path(), seed);
+  const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
+  EXPECT_GE(run.tracked, min_posed);
+  EXPECT_LT(worstError(run), 0.05);
+  EXPECT_GT(worstError(runTracker(dir.path(), InitSource::Board, std::nullopt, -1, without)), 0.05)
+      << "what the check keeps out of the trajectory";
+  return run;
+}
+
 // board_leaves seed 7: as the board leaves, a feature started on an occluding edge (a box against
 // the plain wall) is matched 9 px from its place, and with the board's corners gone it carries
 // the pose (full render: 3 -> 20 -> 59 mm in frames 94-98, then up to 11 cm). That frame's
@@ -373,21 +387,13 @@ TEST(MonoslamTracker, BoardFreeStartOnFourPresetsWithinTwiceTheBoardStartedSim3E
 // 50): its frames are lost from there, not posed wrong. Measured here (one sample per pixel): 98
 // of 110 posed, at most 19 mm; without the check all 110, 12 of them over 5 cm (up to 96 mm).
 TEST(MonoslamTracker, MismatchCarryingThePoseIsReportedLost) {
-  test::TempDir dir;
-  renderFast("board_leaves", 110, dir.path(), 7);
-  const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
-  EXPECT_GE(run.tracked, 90);
-  EXPECT_LT(worstError(run), 0.05);
+  MonoslamOptions unchecked;
+  unchecked.filter.reporting.max_innovation_jump = 0;
+  const RunResult run = expectNoFrameOverFiveCentimetres("board_leaves", 110, 7, 90, unchecked);
   const auto jump = std::find_if(run.results.begin(), run.results.end(), [](const FrameResult& r) {
     return r.reason.find("times the run's innovation level") != std::string::npos;
   });
   EXPECT_NE(jump, run.results.end()) << "the lost frames name the innovation jump";
-
-  MonoslamOptions unchecked;
-  unchecked.filter.reporting.max_innovation_jump = 0;
-  const RunResult plain = runTracker(dir.path(), InitSource::Board, std::nullopt, -1, unchecked);
-  EXPECT_EQ(plain.tracked, plain.frames);
-  EXPECT_GT(worstError(plain), 0.05);  // what the check keeps out of the trajectory
 }
 
 // wall_turn seed 15: turning to the other wall, monoslam measures the four or five features left
@@ -396,14 +402,9 @@ TEST(MonoslamTracker, MismatchCarryingThePoseIsReportedLost) {
 // (full render: 84 frames over 5 cm, up to 15 cm, before session 27). Measured here (one sample
 // per pixel, 115 frames): worst 30 mm, 95 frames posed; at 5 cm 59 mm, 108 posed.
 TEST(MonoslamTracker, TurningAwayIsLostBeforeFiveCentimetres) {
-  test::TempDir dir;
-  renderFast("wall_turn", 115, dir.path(), 15);
-  const RunResult run = runTracker(dir.path(), InitSource::Board, std::nullopt);
-  EXPECT_GE(run.tracked, 85);
-  EXPECT_LT(worstError(run), 0.05);
   MonoslamOptions loose;
   loose.filter.reporting.max_position_sigma = 0.05;
-  EXPECT_GT(worstError(runTracker(dir.path(), InitSource::Board, std::nullopt, -1, loose)), 0.05);
+  expectNoFrameOverFiveCentimetres("wall_turn", 115, 15, 85, loose);
 }
 
 // wall_turn seed 1: lost facing the other wall (too few measurements), the filter restarts from
