@@ -242,6 +242,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
 
 FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
   FrameMeasurement measurement;  // none in a start's frame
+  int board_measured = 0;         // the board's corners a start's pose came from
   if (!running_) {
     std::string reason;
     if (!start(frame, &reason)) {
@@ -253,8 +254,8 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       }
       return result;
     }
-    // The start's pose is measured by the board's corners (none for a given pose).
-    result.measured = static_cast<int>(start_corners_.size());
+    // The start's pose is measured by the board's corners (none for a given pose): not a weak frame.
+    board_measured = static_cast<int>(start_corners_.size());
     slam_.updateMap(frame.grey, visible_);
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
@@ -306,7 +307,8 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
                                : trusted_matched_ >= options_.filter.reporting.min_measured;
   const bool anchored = init_ == InitSource::None && found_again;
   if (const std::string weak =
-          reporting_.weakness(result.measured, measurement.nis, measurement.nis_dof, anchored, slam_.state());
+          reporting_.weakness(result.measured + board_measured, measurement.nis, measurement.nis_dof, anchored,
+                              slam_.state());
       !weak.empty()) {
     result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;
