@@ -190,17 +190,16 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     };
     kept = onePointRansacUpdate(state, searched, predict, *ransac, so.pixel_sigma, *rng);
   } else {
-    kept = jointlyCompatible(state, searched, candidates_uv, so, &out.nis);
+    double nis = 0;
+    kept = jointlyCompatible(state, searched, candidates_uv, so, &nis);
     std::vector<PointObservation> observations;
     for (size_t k : kept) observations.push_back(searched[k]);
     // An innovation covariance that is not positive definite means the filter's numbers broke: no
     // update, and the frame counts as unmeasured (the health check then ends the run of frames).
-    if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) {
-      out.nis = 0;
-      return out;
-    }
+    if (observations.empty() || !batchUpdate(state, observations, so.pixel_sigma)) return out;
+    out.nis = nis;
+    out.nis_dof = 2 * static_cast<int>(kept.size());
   }
-  if (!ransac) out.nis_dof = 2 * static_cast<int>(kept.size());
   for (size_t k : kept) {
     FeatureSearch& s = out.features[searched_slot[k]];
     s.outcome = SearchOutcome::Matched;

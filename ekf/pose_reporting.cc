@@ -33,12 +33,10 @@ std::string PoseReporting::innovationJump(double nis, int nis_dof, bool test) {
 }
 
 std::string PoseReporting::weakness(int measured, double nis, int nis_dof, bool anchored, const EkfState& state) {
-  if (anchored) {
-    weak_frames_ = 0;
-    lost_.clear();
-  }
+  if (anchored) lost_.clear();
   if (!lost_.empty()) return lost_ + "; not anchored since";
-  weak_frames_ = measured < options_.min_measured ? weak_frames_ + 1 : 0;
+  // A frame something absolute anchored is not a weak one, whatever else it measured.
+  weak_frames_ = !anchored && measured < options_.min_measured ? weak_frames_ + 1 : 0;
   if (weak_frames_ >= options_.max_weak_frames) {
     lost_ = "fewer than " + std::to_string(options_.min_measured) + " measurements a frame for " +
             std::to_string(weak_frames_) + " frames";

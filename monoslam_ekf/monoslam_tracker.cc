@@ -126,19 +126,14 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   CameraVelocity velocity;
   double sigma_v = s.velocity_sigma, sigma_w = s.angular_velocity_sigma;
   if (ever_started_) {
-    const std::optional<TimedPose> previous = std::exchange(restart_view_, TimedPose{frame.timestamp, T_world_camera});
+    const std::optional<StampedPose> previous = std::exchange(restart_view_, StampedPose{frame.timestamp, T_world_camera});
     const double dt = previous ? frame.timestamp - previous->timestamp : 0;
     if (!(dt > 0)) {
       *reason = "board seen: the restart waits for the next frame's view to know the motion";
       return false;
     }
+    // Two views that disagree (a detection gone wrong in one) give a speed the health check stops.
     velocity = velocityBetween(previous->T_world_camera, T_world_camera, dt);
-    // Two views that disagree (a detection gone wrong in one) start afresh from this one.
-    const HealthOptions& h = options_.filter.health;
-    if (velocity.v_world.norm() > h.max_speed || velocity.w_camera.norm() > h.max_angular_speed) {
-      *reason = "board seen: its motion since the last view is beyond the health bounds; the restart waits";
-      return false;
-    }
     sigma_v = s.restart_move_per_frame / dt;
     sigma_w = s.restart_turn_per_frame / dt;
   }
@@ -242,7 +237,7 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
 
 FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
   FrameMeasurement measurement;  // none in a start's frame
-  int board_measured = 0;         // the board's corners a start's pose came from
+  bool started_here = false;      // the pose comes from the board (or the given pose) in this frame
   if (!running_) {
     std::string reason;
     if (!start(frame, &reason)) {
@@ -254,8 +249,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       }
       return result;
     }
-    // The start's pose is measured by the board's corners (none for a given pose): not a weak frame.
-    board_measured = static_cast<int>(start_corners_.size());
+    started_here = true;
     slam_.updateMap(frame.grey, visible_);
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
@@ -305,10 +299,9 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   const bool found_again = lost_ && slam_.relocalises()
                                ? relocalised
                                : trusted_matched_ >= options_.filter.reporting.min_measured;
-  const bool anchored = init_ == InitSource::None && found_again;
+  const bool anchored = started_here || (init_ == InitSource::None && found_again);
   if (const std::string weak =
-          reporting_.weakness(result.measured + board_measured, measurement.nis, measurement.nis_dof, anchored,
-                              slam_.state());
+          reporting_.weakness(result.measured, measurement.nis, measurement.nis_dof, anchored, slam_.state());
       !weak.empty()) {
     result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;

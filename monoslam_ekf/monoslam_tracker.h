@@ -7,6 +7,7 @@
 
 #include "core/backend_registry.h"
 #include "core/tracker.h"
+#include "core/trajectory.h"
 #include "ekf/ekf_slam.h"
 #include "ekf/pose_reporting.h"
 #include "monoslam_ekf/monoslam_options.h"
@@ -57,11 +58,7 @@ class MonoslamTracker : public Tracker {
   std::string lost_reason_;
   std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay
   std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin
-  struct TimedPose {
-    double timestamp = 0;
-    SE3 T_world_camera;
-  };
-  std::optional<TimedPose> restart_view_;  // a restart's board view in the frame before, for its motion
+  std::optional<StampedPose> restart_view_;  // a restart's board view in the frame before, for its motion
   double last_timestamp_ = 0;
   int frames_unmeasured_ = 0;
   bool unknown_first_motion_ = false;  // --init none, before the second frame (or after a relocalisation)
