@@ -98,6 +98,21 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
   return kept;
 }
 
+// nu^T S^-1 nu of the observations `kept` (their z against their prior h), S restricted to them
+// from the prior's innovation covariance of all `observations`.
+double jointNis(const Eigen::MatrixXd& S, const std::vector<PointObservation>& observations,
+                const std::vector<size_t>& kept) {
+  std::vector<int> rows;
+  Eigen::VectorXd nu(2 * kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) {
+    rows.push_back(static_cast<int>(2 * kept[i]));
+    rows.push_back(static_cast<int>(2 * kept[i] + 1));
+    nu.segment<2>(2 * i) = observations[kept[i]].z - observations[kept[i]].h.uv_distorted;
+  }
+  const Eigen::MatrixXd S_kept = S(rows, rows);
+  return nu.dot(S_kept.ldlt().solve(nu));
+}
+
 }  // namespace
 
 bool predictFeature(const CameraModel& camera, const Eigen::VectorXd& x, const MapFeature& feature,
@@ -188,7 +203,12 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     const ObservationPredictor predict = [&](const Eigen::VectorXd& x, size_t k, PointMeasurement* h) {
       return predictFeature(camera, x, features[out.features[searched_slot[k]].index], h);
     };
+    // The prior's innovation covariance, for the kept matches' joint NIS (as joint compatibility's).
+    const Eigen::MatrixXd S_prior = innovationCovariance(state, searched, so.pixel_sigma);
     kept = onePointRansacUpdate(state, searched, predict, *ransac, so.pixel_sigma, *rng);
+    if (kept.empty()) return out;
+    out.nis = jointNis(S_prior, searched, kept);
+    out.nis_dof = 2 * static_cast<int>(kept.size());
   } else {
     double nis = 0;
     kept = jointlyCompatible(state, searched, candidates_uv, so, &nis);

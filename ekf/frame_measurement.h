@@ -33,8 +33,8 @@ struct FeatureSearch {
 struct FrameMeasurement {
   int visible = 0;  // points predicted inside the image
   int matched = 0;  // points used in the update
-  // The matches' joint NIS before the update, nu^T S^-1 nu, and its dof (2 * matched); both 0
-  // where it is not computed (no match, or 1-point RANSAC's matching).
+  // The matches' joint NIS before the update, nu^T S^-1 nu with the prior's S, and its dof
+  // (2 * matched); both 0 without a match.
   double nis = 0;
   int nis_dof = 0;
   std::vector<FeatureSearch> features;  // every visible point, in feature-list order

@@ -291,14 +291,14 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     }
   }
   result.features = static_cast<int>(slam_.features().size());
-  // Nothing absolute anchors a board-free map but the map itself: its frames are posed again once
-  // features mapped while it was posed are found again. With relocalisation, only by it (a PnP
+  // Nothing absolute anchors a board-free map but the map itself: after a loss its frames are posed
+  // again once features mapped while it was posed are found again (while it tracks, matching them
+  // anchors nothing: its innovations are tested as any run's). With relocalisation, only by it (a PnP
   // check over the map): the filter's own searches from a lost pose, with wide ellipses, match
   // look-alikes (tum_fr1_rpy: frames reported 20 to 97 degrees off). Features mapped while its
   // frames were lost agree with whatever pose it drifted to, and prove nothing.
-  const bool found_again = lost_ && slam_.relocalises()
-                               ? relocalised
-                               : trusted_matched_ >= options_.filter.reporting.min_measured;
+  const bool found_again =
+      lost_ && (slam_.relocalises() ? relocalised : trusted_matched_ >= options_.filter.reporting.min_measured);
   const bool anchored = started_here || (init_ == InitSource::None && found_again);
   if (const std::string weak =
           reporting_.weakness(result.measured, measurement.nis, measurement.nis_dof, anchored, slam_.state());
