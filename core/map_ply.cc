@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format_string.h"
 
 namespace slamcmp {
 
@@ -22,12 +22,10 @@ void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {
       << "element vertex " << points.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n"
       << "property int id\nproperty int observations\nproperty float sigma\nend_header\n";
-  char buf[160];
   for (const auto& p : points) {
     // sigma with significant digits, not decimals: a tiny one must not read back as 0 (known).
-    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6g\n", p.p_world.x(), p.p_world.y(),
-                  p.p_world.z(), p.id, p.observations, p.sigma);
-    out << buf;
+    out << formatString("%.6f %.6f %.6f %d %d %.6g\n", p.p_world.x(), p.p_world.y(), p.p_world.z(), p.id,
+                        p.observations, p.sigma);
   }
   if (!out) throw InputError(path, "write failed");
 }

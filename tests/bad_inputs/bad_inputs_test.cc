@@ -283,6 +283,11 @@ std::vector<BadCase> cases() {
       rgbCase("RgbTimestampNotNumber", "zero rgb/0.png\n", ":1: timestamp 'zero' is not a number"),
       rgbCase("RgbTimestampNaN", "0.0 rgb/0.png\nnan rgb/1.png\n", ":2: timestamp is not finite"),
       rgbCase("RgbTimestampInfinite", "0.0 rgb/0.png\ninf rgb/1.png\n", ":2: timestamp is not finite"),
+      // Found by the reliability probe: 2e300 was accepted and cut trajectory.txt's lines at 255 characters.
+      rgbCase("RgbTimestampHuge", "0.0 rgb/0.png\n2e300 rgb/1.png\n",
+              ":2: timestamp 2e+300 is not plausible as seconds (beyond 1e+11 s)"),
+      rgbCase("RgbTimestampNanoseconds", "1403715572212143183 rgb/0.png\n",
+              ":1: timestamp 1.40372e+18 is not plausible as seconds (beyond 1e+11 s): it looks like nanoseconds"),
       rgbCase("RgbTimestampsOutOfOrder", "0.1 rgb/0.png\n0.0 rgb/1.png\n", ":2: timestamp goes back in time"),
       rgbCase("RgbTimestampDuplicated", "0.1 rgb/0.png\n0.1 rgb/1.png\n", ":2: duplicate timestamp"),
       rgbCase("RgbTruncatedLastLine", k3.substr(0, k3.size() - 8), ":3: image"),
@@ -377,6 +382,11 @@ std::vector<BadCase> cases() {
                 writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n0.1 0 0\n");
               },
               {"seq/groundtruth.txt:2", "fields"}),
+      runCase("GroundTruthTimestampHuge",
+              [](const std::string& seq) {
+                writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n1e300 0 0 -1 0 0 0 1\n");
+              },
+              {"seq/groundtruth.txt:2", "not plausible as seconds"}),
       {"EurocListWithoutComma",
        [](const TempDir& tmp) {
          std::filesystem::create_directories(tmp.file("mav0/cam0/data"));
@@ -478,6 +488,8 @@ std::vector<BadCase> cases() {
                ":2: a field is not a number"),
       evalCase("TumNaN", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 nan 0 0 0 1\n", ":2: NaN or infinite"),
       evalCase("TumInfinite", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 1e999 0 0 0 1\n", ":2: NaN or infinite"),
+      evalCase("TumTimestampHuge", "est.txt", "0.0 0 0 0 0 0 0 1\n2e300 0 0 0 0 0 0 1\n",
+               ":2: timestamp 2e+300 is not plausible as seconds"),
       evalCase("TumZeroQuaternion", "est.txt", "0.0 0 0 0 0 0 0 0\n", ":1: quaternion norm"),
       evalCase("TumOutOfOrder", "est.txt", "0.1 0 0 0 0 0 0 1\n0.0 0 0 0 0 0 0 1\n",
                ":2: timestamp goes back"),

@@ -85,6 +85,20 @@ TEST(MapPly, ReadsBackWhatItWrites) {
   EXPECT_TRUE(readMapPly(dir.file("empty.ply")).empty());
 }
 
+// A diverged point far away prints hundreds of digits: its line is written whole, not cut.
+TEST(MapPly, FarPointIsWrittenWhole) {
+  test::TempDir dir;
+  std::vector<MapPoint> points = threePoints();
+  points[0].p_world = Vec3(1e300, -1e300, 2.0);
+  writeMapPly(dir.file("map.ply"), points);
+  const auto read = readMapPly(dir.file("map.ply"));
+  ASSERT_EQ(read.size(), points.size());
+  EXPECT_EQ(read[0].p_world.x(), 1e300);
+  EXPECT_EQ(read[0].p_world.y(), -1e300);
+  EXPECT_EQ(read[0].id, points[0].id);
+  EXPECT_EQ(read[1].id, points[1].id);
+}
+
 TEST(MapPly, UnwritableOutputIsAnInputError) {
   test::TempDir dir;
   EXPECT_THROW(writeMapPly(dir.file("missing/map.ply"), {}), InputError);

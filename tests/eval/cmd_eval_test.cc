@@ -21,11 +21,11 @@ int lineCount(const std::string& s) {
 }
 
 // Five poses on a parabola at 10 Hz; the estimate is 0.1 m off in z, with timestamps in `unit`
-// seconds.
+// seconds (from 10 s: in nanoseconds too they stay below the 1e11 that no file may exceed).
 void writePair(const TempDir& tmp, double unit) {
   std::string gt, est;
   for (int i = 0; i < 5; ++i) {
-    const double t = 100.0 + 0.1 * i;
+    const double t = 10.0 + 0.1 * i;
     char line[128];
     std::snprintf(line, sizeof line, "%.6f %d %d 0 0 0 0 1\n", t, i, i * i);
     gt += line;
