@@ -111,9 +111,14 @@ nlohmann::json runSequence(const RunRequest& request) {
 
   const std::string out_dir =
       request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
-  RunRecorder recorder(out_dir, tracker->name());
-  std::error_code ignored;  // a run scored before into this folder: its NEES is not this run's
-  std::filesystem::remove(out_dir + "/nees.csv", ignored);
+  // A run before into this folder: its outputs are not this run's, and one left beside this run's
+  // (a summary.json beside a trajectory.txt cut short by a failure) would pass for a whole run.
+  // Only these files, by name: the folder may hold anything else.
+  for (const char* stale : {"summary.json", "map.ply", "nees.csv"}) {
+    std::error_code ignored;
+    std::filesystem::remove(std::filesystem::path(out_dir) / stale, ignored);
+  }
+  RunRecorder recorder(out_dir, tracker->name());  // replaces trajectory.txt and frames.csv
   const int total = request.max_frames >= 0 && seq.frames->size() >= 0
                         ? std::min(request.max_frames, seq.frames->size())
                         : seq.frames->size();

@@ -45,7 +45,17 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   if (!in) throw InputError(dir + "/summary.json", "missing");
   r.summary = nlohmann::json::parse(in);
   r.frames = readFramesCsv(dir + "/frames.csv");
-  if (r.summary.value("tracked", 0) > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
+  const int tracked = r.summary.value("tracked", 0);
+  if (tracked > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
+  // Files of two runs side by side (an old summary.json beside a rerun's files cut short) are no run.
+  const int frames = r.summary.value("frames", 0);
+  if (static_cast<int>(r.frames.size()) != frames)
+    throw InputError(dir + "/frames.csv", "has " + std::to_string(r.frames.size()) + " rows but summary.json says " +
+                                              std::to_string(frames) + " frames: the files are not from one run");
+  if (static_cast<int>(r.trajectory.size()) != tracked)
+    throw InputError(dir + "/trajectory.txt", "has " + std::to_string(r.trajectory.size()) +
+                                                  " poses but summary.json says " + std::to_string(tracked) +
+                                                  " tracked: the files are not from one run");
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   if (fs::exists(dir + "/nees.csv")) r.nees = readNeesCsv(dir + "/nees.csv");
   if (seq.scene) {

@@ -1,0 +1,92 @@
+// What `run` and `compare` leave and say when a run is not quite right (cases found by the
+// reliability probe).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+using test::writeText;
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// tv1's first `frames` frames rendered into tmp/`name`.
+std::string renderTv1(const TempDir& tmp, int frames, const std::string& name = "tv1") {
+  const auto r = test::runSlamcmp("synth --preset tv1 --frames " + std::to_string(frames) +
+                                  " --supersample 1 --out " + tmp.file(name));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return tmp.file(name);
+}
+
+// A run that fails midway (an image of another size at frame 5) into the folder of a finished run:
+// the earlier run's summary.json and map.ply must not stay beside the new run's partial files.
+TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  const std::string out = tmp.file("out");
+  const auto first = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  ASSERT_TRUE(fs::exists(out + "/summary.json"));
+  ASSERT_TRUE(fs::exists(out + "/map.ply"));
+  writeText(out + "/notes.txt", "the user's own file\n");
+
+  ASSERT_TRUE(cv::imwrite(seq + "/rgb/000005.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(128))));
+  const auto rerun = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  EXPECT_EQ(rerun.exit_code, 2) << rerun.err;
+  EXPECT_NE(rerun.err.find("000005.png: image is 80x60"), std::string::npos) << rerun.err;
+  EXPECT_FALSE(fs::exists(out + "/summary.json"));
+  EXPECT_FALSE(fs::exists(out + "/map.ply"));
+  EXPECT_EQ(test::readLines(out + "/frames.csv").size(), 6u);  // the header and frames 0 to 4
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));                  // only the run's own outputs go
+}
+
+// A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
+std::string compareTv1(const TempDir& tmp) {
+  const std::string seq = renderTv1(tmp, 10, "good");
+  const auto r = test::runSlamcmp("compare --jobs 1 --sequence " + seq + " --backends cslam --out " + tmp.file("c"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return tmp.file("c/runs/good-cslam");
+}
+
+// The error results.csv gives the run of `dir` after compare --collect of it.
+std::string collectedError(const std::string& dir) {
+  test::runSlamcmp("compare --collect " + dir);
+  const std::string results = readFile(dir + "/results.csv");
+  const auto at = results.find("runs/good-cslam,");
+  return at == std::string::npos ? "" : results.substr(at, results.find('\n', at) - at);
+}
+
+// --collect does not take the files of two runs (an earlier run's summary.json beside a rerun's
+// frames.csv cut short) for one.
+TEST(RunOutputs, CollectRefusesARunWhoseFilesDisagree) {
+  TempDir tmp;
+  const std::string run = compareTv1(tmp);
+  const std::vector<std::string> rows = test::readLines(run + "/frames.csv");
+  std::string fewer;
+  for (size_t i = 0; i + 3 < rows.size(); ++i) fewer += rows[i] + "\n";
+  writeText(run + "/frames.csv", fewer);
+  const std::string error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/frames.csv: has 7 rows but summary.json says 10 frames"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace slamcmp
