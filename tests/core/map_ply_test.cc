@@ -242,6 +242,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadPly{"HugeCount", "ply\nformat binary_little_endian 1.0\nelement vertex 99999999999999\n"
                             "property float x\nproperty float y\nproperty float z\nend_header\n",
                ": ", "ends before vertex 0"},
+        // Found by the reliability probe: both read garbage or ignored data, silently.
+        BadPly{"MoreVerticesThanDeclared", kHead + "1 2 3\n4 5 6\n7 8 9\n", ":10: ", "data beyond the 2 vertices"},
+        BadPly{"BinaryHeaderOverText",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+               "property float z\nend_header\n1.5 2 3\n4 5 6.25\n",
+               ": ", "the header says binary_little_endian but the data is text"},
+        BadPly{"BinaryMoreThanDeclared",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty uchar x\nproperty uchar y\n"
+               "property uchar z\nend_header\n\x01\x02\x03\x04\x05\x06",
+               ": ", "data beyond the 1 vertices"},
         BadPly{"IdOutOfRange",
                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                "property double id\nend_header\n0 0 0 1e12\n",
