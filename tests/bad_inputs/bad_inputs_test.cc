@@ -376,6 +376,18 @@ std::vector<BadCase> cases() {
       configCase("ConfigNaN", "%YAML:1.0\n---\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
                  "cslam.board.max_grid_error_px"),
       configCase("ConfigSectionNotMap", "%YAML:1.0\n---\ncslam: 3\n", "cslam"),
+      // Found by the reliability probe: OpenCV keeps an integer's low 32 bits (4294967305 was run as 9).
+      configCase("ConfigIntegerWraps", "%YAML:1.0\n---\ncslam:\n  lk_window_px: 4294967305\n", "cslam.lk_window_px",
+                 "cslam", {"4294967305 is out of range"}),
+      configCase("ConfigIntegerJustOutOfRange", "%YAML:1.0\n---\ncslam:\n  lk_levels: 2147483648\n",
+                 "cslam.lk_levels", "cslam", {"2147483648 is out of range"}),
+      configCase("ConfigIntegerWrapsInHex", "%YAML:1.0\n---\ncslam:\n  lk_levels: 0x100000003\n", "cslam.lk_levels",
+                 "cslam", {"0x100000003 is out of range"}),
+      configCase("ConfigIntegerAsLargeReal", "%YAML:1.0\n---\ncslam:\n  lk_levels: 3.0e9\n", "cslam.lk_levels",
+                 "cslam", {"must be an integer from -2e9 to 2e9"}),
+      yamlCase("CameraSizeWraps", "camera.yaml",
+               std::string(kCameraYaml).replace(std::string(kCameraYaml).find("160"), 3, "4294967456"),
+               "image_width: 4294967456 is out of range"),
       // Ground truth and EuRoC lists beside a sequence.
       runCase("GroundTruthShortLine",
               [](const std::string& seq) {
