@@ -385,6 +385,11 @@ std::vector<BadCase> cases() {
                  "cslam", {"0x100000003 is out of range"}),
       configCase("ConfigIntegerAsLargeReal", "%YAML:1.0\n---\ncslam:\n  lk_levels: 3.0e9\n", "cslam.lk_levels",
                  "cslam", {"must be an integer from -2e9 to 2e9"}),
+      // Found by the reliability probe: a skew of 1e6 ran (435 m of error).
+      yamlCase("CameraSkewHuge", "camera.yaml", camera("150., 1e6, 79.5, 0., 150., 59.5, 0., 0., 1.", "0, 0, 0, 0"),
+               "camera_matrix: skew (K[0][1]) 1e+06 px is not plausible"),
+      yamlCase("CameraSkewNegative", "camera.yaml", camera("150., -2., 79.5, 0., 150., 59.5, 0., 0., 1.", "0, 0, 0, 0"),
+               "camera_matrix: skew (K[0][1]) -2 px is not plausible (expected at most 1.5 px"),
       yamlCase("CameraSizeWraps", "camera.yaml",
                std::string(kCameraYaml).replace(std::string(kCameraYaml).find("160"), 3, "4294967456"),
                "image_width: 4294967456 is out of range"),
