@@ -88,5 +88,25 @@ TEST(RunOutputs, CollectRefusesARunWhoseFilesDisagree) {
   EXPECT_NE(error.find(run + "/frames.csv: has 7 rows but summary.json says 10 frames"), std::string::npos) << error;
 }
 
+// --collect checks what it reads of summary.json: a negative count or a word for a number is
+// refused naming the file and the field, not drawn or left as an empty cell.
+TEST(RunOutputs, CollectRefusesAMalformedSummary) {
+  TempDir tmp;
+  const std::string run = compareTv1(tmp);
+  nlohmann::json summary = nlohmann::json::parse(readFile(run + "/summary.json"));
+  summary["tracked"] = -5;
+  writeText(run + "/summary.json", summary.dump());
+  std::string error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/summary.json: tracked: must be a whole number from 0 to 10, got -5"), std::string::npos)
+      << error;
+  summary["tracked"] = 10;
+  summary["ms_per_frame"]["median"] = "fast";
+  writeText(run + "/summary.json", summary.dump());
+  error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/summary.json: ms_per_frame.median: must be a number of milliseconds, got \"\"fast\"\""),
+            std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace slamcmp
