@@ -29,10 +29,11 @@ class ImageListSource : public FrameSource {
     frame->timestamp = e.timestamp;
     frame->source = e.path;
     frame->grey.release();
+    frame->decode_error.clear();
     return true;
   }
   void decode(Frame* frame) const override {
-    frame->grey = readGreyImage(frame->source);
+    frame->grey = readGreyImage(frame->source, &frame->decode_error);
     if (!frame->grey.empty() && frame->grey.size() != size_)
       throw InputError(frame->source, "image is " + std::to_string(frame->grey.cols) + "x" +
                                           std::to_string(frame->grey.rows) + ", the sequence's are " +

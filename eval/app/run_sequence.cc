@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 
 #include "core/error.h"
 #include "core/frame_prefetcher.h"
@@ -130,9 +131,16 @@ nlohmann::json runSequence(const RunRequest& request) {
   std::vector<CovariantPose> covariant_poses;  // filters' poses with their covariance, for NEES
   std::vector<double> frame_timestamps;        // every frame read, posed or not
   bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
+  std::set<std::string> undecodable;  // image files warned about
   while (!interrupted() && !quit && frames.next(&d)) {
     frame_timestamps.push_back(d.frame.timestamp);
     if (d.frame.grey.empty()) {
+      // One bad image in a long sequence must not end the run, nor pass unseen: said once a file
+      // (a looped list plays a file again).
+      if (undecodable.insert(d.frame.source).second)
+        std::cerr << d.frame.source << ": warning: cannot be decoded as an image"
+                  << (d.frame.decode_error.empty() ? "" : " (" + d.frame.decode_error + ")")
+                  << "; its frame is recorded as lost\n";
       recorder.recordUndecodable(d.frame, d.decode_ms);
       continue;
     }

@@ -22,6 +22,8 @@ namespace {
 using test::TempDir;
 using test::writeText;
 
+int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
 std::string readFile(const std::string& path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -57,6 +59,25 @@ TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
   EXPECT_FALSE(fs::exists(out + "/map.ply"));
   EXPECT_EQ(test::readLines(out + "/frames.csv").size(), 6u);  // the header and frames 0 to 4
   EXPECT_TRUE(fs::exists(out + "/notes.txt"));                  // only the run's own outputs go
+}
+
+// One undecodable image in a sequence does not end the run: its frame is lost, and the file is
+// named once on stderr however often the list plays it.
+TEST(RunOutputs, AnUndecodableImageMidSequenceIsWarnedOnce) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  writeText(seq + "/rgb/000004.png", "not a PNG");
+  std::ofstream(seq + "/rgb.txt", std::ios::app) << "100.0 rgb/000004.png\n";  // played again, last
+  const std::string out = tmp.file("out");
+  const auto r = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(seq + "/rgb/000004.png: warning: cannot be decoded as an image", 0), 0u) << r.err;
+  const auto rows = test::readLines(out + "/frames.csv");
+  ASSERT_EQ(rows.size(), 12u);
+  EXPECT_EQ(rows[5].rfind("4,", 0), 0u);
+  EXPECT_NE(rows[5].find(",lost,"), std::string::npos) << rows[5];
+  EXPECT_NE(rows[11].find(",lost,"), std::string::npos) << rows[11];
 }
 
 // A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
