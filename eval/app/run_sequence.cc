@@ -220,8 +220,9 @@ nlohmann::json runSequence(const RunRequest& request) {
         extra["nees"] = neesToJson(*nees);
         writeNeesCsv(out_dir + "/nees.csv", nees->per_frame);  // for compare's test over trials
       }
-    } catch (const InputError& e) {  // the run is fine; only its score is impossible
+    } catch (const InputError& e) {  // the run is fine; only its score is impossible, which is said
       extra["metrics_error"] = e.what();
+      std::cerr << seq.groundtruth_path << ": warning: the run cannot be scored against it: " << e.what() << "\n";
     }
   }
   const std::vector<MapPoint> map = tracker->mapPoints();

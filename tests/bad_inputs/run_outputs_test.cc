@@ -80,6 +80,29 @@ TEST(RunOutputs, AnUndecodableImageMidSequenceIsWarnedOnce) {
   EXPECT_NE(rows[11].find(",lost,"), std::string::npos) << rows[11];
 }
 
+// Ground truth the run cannot be scored against (its clock 1000 s off): the run is fine (exit 0),
+// and one line names groundtruth.txt and why, as summary.json's metrics_error does.
+TEST(RunOutputs, GroundTruthThatCannotScoreTheRunIsWarnedAbout) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  std::string shifted;
+  for (const std::string& line : test::readLines(seq + "/groundtruth.txt")) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto space = line.find(' ');
+    shifted += std::to_string(std::stod(line.substr(0, space)) + 1000.0) + line.substr(space) + "\n";
+  }
+  writeText(seq + "/groundtruth.txt", shifted);
+  const std::string out = tmp.file("out");
+  const auto r = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(seq + "/groundtruth.txt: warning: the run cannot be scored against it: no time overlap", 0),
+            0u)
+      << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(readFile(out + "/summary.json"));
+  EXPECT_NE(summary.value("metrics_error", "").find("no time overlap"), std::string::npos) << summary.dump();
+}
+
 // A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
 std::string compareTv1(const TempDir& tmp) {
   const std::string seq = renderTv1(tmp, 10, "good");
