@@ -40,7 +40,9 @@ void addReproduceCommand(CLI::App& app) {
       options.sequences.push_back(dir);
       if (interrupted()) return;
     }
-    std::cout << "report: " << runCompare(options) << "\n";
+    std::vector<UnfinishedRun> unfinished;
+    const std::string report = runCompare(options, &unfinished);
+    sayCompareReport(options.out_dir, report, unfinished);
   });
 }
 

@@ -152,5 +152,27 @@ TEST(RunOutputs, CollectRefusesAMalformedSummary) {
       << error;
 }
 
+// A compare where a run failed says so, a line for each, and exits 2, as --collect of it does.
+TEST(RunOutputs, CompareAndCollectSayWhichRunsFailed) {
+  TempDir tmp;
+  const std::string good = renderTv1(tmp, 10, "good");
+  const std::string bad = renderTv1(tmp, 10, "bad");
+  ASSERT_TRUE(cv::imwrite(bad + "/rgb/000003.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(128))));
+  const std::string dir = tmp.file("c");
+  const auto r = test::runSlamcmp("compare --jobs 1 --sequence " + good + " --sequence " + bad +
+                                  " --backends cslam --out " + dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.out.find("report: "), std::string::npos) << r.out;
+  ASSERT_EQ(lineCount(r.err), 2) << r.err;
+  EXPECT_EQ(r.err.rfind("slamcmp: " + dir + "/runs/bad-cslam: failed: " + bad + "/rgb/000003.png: image is 80x60", 0),
+            0u)
+      << r.err;
+  EXPECT_NE(r.err.find("1 run(s) failed"), std::string::npos) << r.err;
+
+  const auto collected = test::runSlamcmp("compare --collect " + dir);
+  EXPECT_EQ(collected.exit_code, 2) << collected.err;
+  EXPECT_EQ(collected.err, r.err);
+}
+
 }  // namespace
 }  // namespace slamcmp
