@@ -376,6 +376,13 @@ std::vector<BadCase> cases() {
       configCase("ConfigNaN", "%YAML:1.0\n---\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
                  "cslam.board.max_grid_error_px"),
       configCase("ConfigSectionNotMap", "%YAML:1.0\n---\ncslam: 3\n", "cslam"),
+      // Found by the reliability probe: a typo in another back-end's section passed unseen until
+      // that back-end ran (in a compare, after hours of the others).
+      configCase("ConfigTypoInAnotherBackEndsSection", "%YAML:1.0\n---\ncslam:\n  lk_levels: 3\nmonoslam:\n  bogus: 1\n",
+                 "monoslam.bogus", "cslam", {"unknown option"}),
+      configCase("ConfigBadValueInAnotherBackEndsSection",
+                 "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",
+                 "hybrid.corners.pixel_sigma", "monoslam", {"must be positive"}),
       // Found by the reliability probe: OpenCV keeps an integer's low 32 bits (4294967305 was run as 9).
       configCase("ConfigIntegerWraps", "%YAML:1.0\n---\ncslam:\n  lk_window_px: 4294967305\n", "cslam.lk_window_px",
                  "cslam", {"4294967305 is out of range"}),
