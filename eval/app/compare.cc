@@ -174,8 +174,8 @@ std::string runCompare(const CompareOptions& options, std::vector<UnfinishedRun>
   std::vector<UnfinishedRun> not_finished;
   const std::string report = collectCompare(dir, &not_finished);
   if (!finished)
-    throw CompareInterrupted("interrupted: " + report + " marks the " + std::to_string(not_finished.size()) +
-                             " runs not finished");
+    throw Interrupted("interrupted: " + report + " marks the " + std::to_string(not_finished.size()) +
+                      " runs not finished");
   if (unfinished) *unfinished = not_finished;
   return report;
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/app/run_sequence.h"
 #include "eval/report/compare_report.h"
 
 namespace slamcmp {
@@ -34,13 +35,6 @@ struct CompareOptions {
   std::string slamcmp;  // the binary the runs execute; "" = this process's own (tests give slamcmp's)
 };
 
-// A compare stopped by Ctrl-C, SIGTERM or SIGHUP: its report is written and marks the runs not
-// finished; main exits 130.
-class CompareInterrupted : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 // A run of a compare that did not finish, as its report lists it.
 struct UnfinishedRun {
   std::string dir;     // runs/NAME, relative to the compare's folder
@@ -53,7 +47,7 @@ struct UnfinishedRun {
 // CSVs and figures/. Returns the report's path; `unfinished` (if given) receives the runs not
 // finished. A run that fails is reported in the tables, not fatal (sayCompareReport says it); bad
 // options or a sequence that cannot be opened are InputErrors before anything runs.
-// Throws CompareInterrupted (after writing the report) when interrupted.
+// Throws Interrupted (after writing the report) when interrupted.
 std::string runCompare(const CompareOptions& options, std::vector<UnfinishedRun>* unfinished = nullptr);
 
 // The end of compare, --collect and reproduce: the report's path on stdout (with how many runs did

@@ -159,7 +159,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   }
   progress.finish();
   recorder.flush();  // before finish() may throw: the files hold every frame recorded
-  if (recorder.frames() == 0 && interrupted()) throw InputError(seq.path, "interrupted before the first frame");
+  if (recorder.frames() == 0 && interrupted()) throw Interrupted(seq.path + ": interrupted before the first frame");
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
   if (!interrupted() && !quit) {
