@@ -95,7 +95,21 @@ void checkIncreasing(const Trajectory& t, const std::string& where) {
     throw InputError(where, "timestamp goes back in time");
 }
 
-TrajectoryFormat detectFormat(const std::string& path) {
+std::vector<double> readKittiTimes(const std::string& path) {
+  std::vector<double> times;
+  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
+    if (v.size() != 1) throw InputError(atLine(path, n), "expected one timestamp");
+    checkPlausibleSeconds(v[0], atLine(path, n));
+    if (!times.empty() && v[0] < times.back())
+      throw InputError(atLine(path, n), "timestamp goes back in time");
+    times.push_back(v[0]);
+  });
+  return times;
+}
+
+}  // namespace
+
+TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
   if (lowerExtension(path) == "csv") return TrajectoryFormat::Euroc;
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
@@ -114,20 +128,6 @@ TrajectoryFormat detectFormat(const std::string& path) {
   throw InputError(path, "holds no pose");
 }
 
-std::vector<double> readKittiTimes(const std::string& path) {
-  std::vector<double> times;
-  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
-    if (v.size() != 1) throw InputError(atLine(path, n), "expected one timestamp");
-    checkPlausibleSeconds(v[0], atLine(path, n));
-    if (!times.empty() && v[0] < times.back())
-      throw InputError(atLine(path, n), "timestamp goes back in time");
-    times.push_back(v[0]);
-  });
-  return times;
-}
-
-}  // namespace
-
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   if (name == "auto") return TrajectoryFormat::Auto;
   if (name == "tum") return TrajectoryFormat::Tum;
@@ -138,7 +138,7 @@ TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
                           const std::string& kitti_times_path) {
-  if (format == TrajectoryFormat::Auto) format = detectFormat(path);
+  if (format == TrajectoryFormat::Auto) format = detectTrajectoryFormat(path);
   Trajectory out;
   std::vector<double> times;
   if (format == TrajectoryFormat::Kitti && !kitti_times_path.empty())

@@ -25,6 +25,8 @@ enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto,
                           const std::string& kitti_times_path = "");
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);  // "auto", "tum", "euroc", "kitti"
+// What Auto reads `path` as (Tum, Euroc or Kitti); InputError as readTrajectory's.
+TrajectoryFormat detectTrajectoryFormat(const std::string& path);
 
 // TUM: "timestamp tx ty tz qx qy qz qw" per line, with a header comment.
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory);

@@ -525,6 +525,15 @@ std::vector<BadCase> cases() {
                ":1: the 3x3 part is not a rotation"),
       evalCase("KittiElevenFields", "est.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n",
                ":2: has 11 fields"),
+      // Found by the reliability probe: KITTI poses of different counts were paired by index silently.
+      {"KittiOfAnotherLength",
+       [](const TempDir& tmp) {
+         const std::string pose = "1 0 0 0 0 1 0 0 0 0 1 0\n";
+         writeText(tmp.file("gt.txt"), pose + pose + pose + pose);
+         writeText(tmp.file("est.txt"), pose + pose + pose);
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt"),
+                           {tmp.file("est.txt") + " against " + tmp.file("gt.txt"), "must have as many: 3 against 4"}};
+       }},
       evalCase("UnknownFieldCount", "est.txt", "1 2 3 4 5\n", ":1: has 5 fields"),
       {"EvalAlignUnknown",
        [](const TempDir& tmp) {
