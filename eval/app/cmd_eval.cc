@@ -50,6 +50,8 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
                 e.drift->kitti_lengths ? "100..800 m" : "0.1..0.8 of the path", e.drift->path_m);
     for (const DriftAtLength& at : e.drift->lengths) std::printf(" %.3g", at.length_m);
     std::printf(" m; %.4f %% translation, %.4f deg/m rotation\n", e.drift->trans_percent, e.drift->rot_deg_per_m);
+  } else {
+    std::printf("drift: not measured: %s\n", e.no_drift.c_str());
   }
 }
 

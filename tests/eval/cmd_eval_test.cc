@@ -92,6 +92,24 @@ TEST(CmdEval, AlignmentScaleAndDriftAlwaysShown) {
   for (const char* key : {"trans_percent", "rot_deg_per_m"}) EXPECT_TRUE(j["drift"][key].is_number()) << key;
 }
 
+// Found by the reliability probe: 2 poses 6 mm apart reported 167 % drift. No drift, and why, in
+// the table and the JSON.
+TEST(CmdEval, NoDriftFromTwoPosesSaysWhy) {
+  TempDir tmp;
+  writeText(tmp.file("gt.txt"), "10.0 0 0 0 0 0 0 1\n10.1 0.006 0 0 0 0 0 1\n");
+  writeText(tmp.file("est.txt"), "10.0 0 0 0 0 0 0 1\n10.1 0.005 0.001 0 0 0 0 1\n");
+  const std::string files = "eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt");
+  const auto table = runSlamcmp(files);
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("drift: not measured: the 2 matched poses are 0.006 m apart"), std::string::npos)
+      << table.out;
+  const auto json = runSlamcmp(files + " --json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const nlohmann::json j = nlohmann::json::parse(json.out);
+  EXPECT_FALSE(j.contains("drift")) << j.dump();
+  EXPECT_NE(j.value("no_drift", "").find("too few to measure drift"), std::string::npos) << j.dump();
+}
+
 // evo's --align_origin: the estimate's first pose put on the ground truth's takes out the pair's
 // constant 0.1 m offset, and the table says which alignment it used.
 TEST(CmdEval, OriginAlignmentTakesOutTheFirstPosesOffset) {
