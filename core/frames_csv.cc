@@ -2,21 +2,19 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format_string.h"
 
 namespace slamcmp {
 
 const char* framesCsvHeader() { return "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured"; }
 
 std::string formatFrameRow(const FrameRow& r) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%d,%.6f,%s,%.4f,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
-                statusLabel(r.status, r.source).c_str(), r.ms, r.cpu_ms, r.decode_ms, r.features, r.measured);
-  return buf;
+  return formatString("%d,%.6f,%s,%.4f,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
+                      statusLabel(r.status, r.source).c_str(), r.ms, r.cpu_ms, r.decode_ms, r.features, r.measured);
 }
 
 void parseStatusColumn(const std::string& s, const std::string& where, FrameRow* row) {

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/statistics.h"
+#include "core/trajectory.h"
 
 namespace fs = std::filesystem;
 
@@ -28,10 +29,11 @@ class ImageListSource : public FrameSource {
     frame->timestamp = e.timestamp;
     frame->source = e.path;
     frame->grey.release();
+    frame->decode_error.clear();
     return true;
   }
   void decode(Frame* frame) const override {
-    frame->grey = readGreyImage(frame->source);
+    frame->grey = readGreyImage(frame->source, &frame->decode_error);
     if (!frame->grey.empty() && frame->grey.size() != size_)
       throw InputError(frame->source, "image is " + std::to_string(frame->grey.cols) + "x" +
                                           std::to_string(frame->grey.rows) + ", the sequence's are " +
@@ -90,10 +92,10 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
     char* end = nullptr;
     const double value = std::strtod(stamp.c_str(), &end);
     if (end == stamp.c_str() || *end) throw InputError(atLine(list, n), "timestamp '" + stamp + "' is not a number");
-    if (!std::isfinite(value)) throw InputError(atLine(list, n), "timestamp is not finite");
     // Divided, not multiplied by the inverse: as the ground truth readers, so that the same
     // nanoseconds give the same seconds.
     const double t = value / layout.units_per_second;
+    checkPlausibleSeconds(t, atLine(list, n));
     if (!entries.empty() && !(t > entries.back().timestamp))
       throw InputError(atLine(list, n), t == entries.back().timestamp ? "duplicate timestamp"
                                                                       : "timestamp goes back in time");

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format_string.h"
 
 namespace slamcmp {
 
@@ -22,12 +22,10 @@ void writeMapPly(const std::string& path, const std::vector<MapPoint>& points) {
       << "element vertex " << points.size() << "\n"
       << "property float x\nproperty float y\nproperty float z\n"
       << "property int id\nproperty int observations\nproperty float sigma\nend_header\n";
-  char buf[160];
   for (const auto& p : points) {
     // sigma with significant digits, not decimals: a tiny one must not read back as 0 (known).
-    std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %d %d %.6g\n", p.p_world.x(), p.p_world.y(),
-                  p.p_world.z(), p.id, p.observations, p.sigma);
-    out << buf;
+    out << formatString("%.6f %.6f %.6f %d %d %.6g\n", p.p_world.x(), p.p_world.y(), p.p_world.z(), p.id,
+                        p.observations, p.sigma);
   }
   if (!out) throw InputError(path, "write failed");
 }
@@ -284,6 +282,20 @@ std::vector<MapPoint> readMapPly(const std::string& path) {
                                  std::to_string(e.count));
     }
   };
+  // A header that says binary over text (a file converted by hand, or its header copied from
+  // another) decodes as garbage that only looks like points.
+  if (!ascii) {
+    char head[32];
+    in.read(head, sizeof head);
+    const std::streamsize n = in.gcount();
+    in.clear();
+    in.seekg(-n, std::ios::cur);
+    if (n > 0 && std::all_of(head, head + n, [](char c) { return std::strchr("0123456789.eE+- \t\r\n", c) && c; }))
+      throw InputError(path, "the header says " + std::string(header.format == PlyFormat::BinaryLittleEndian
+                                                                     ? "binary_little_endian"
+                                                                     : "binary_big_endian") +
+                                 " but the data is text: its format line must be 'format ascii 1.0'");
+  }
   // Elements before the vertices (rare, but allowed) are read past.
   for (auto e = header.elements.begin(); e != vertex; ++e)
     for (uint64_t i = 0; i < e->count; ++i) readInstance(*e, i);
@@ -308,6 +320,20 @@ std::vector<MapPoint> readMapPly(const std::string& path) {
     p.observations = i_obs >= 0 ? integer(i_obs, "observations") : 0;
     p.sigma = i_sigma >= 0 ? values[i_sigma] : -1.0;
     points.push_back(p);
+  }
+  // Data beyond what the header declares: a count that was not updated when points were added.
+  for (auto e = vertex + 1; e != header.elements.end(); ++e)
+    for (uint64_t i = 0; i < e->count; ++i) readInstance(*e, i);
+  const std::string declared =
+      "the " + std::to_string(vertex->count) + " vertices (and other elements) the header declares";
+  if (ascii) {
+    while (getLine(in, &line)) {
+      ++line_number;
+      if (line.find_first_not_of(" \t") != std::string::npos)
+        throw InputError(atLine(path, line_number), "data beyond " + declared + ": is the element vertex count wrong?");
+    }
+  } else if (in.peek() != std::char_traits<char>::eof()) {
+    throw InputError(path, "data beyond " + declared + ": is the element vertex count wrong?");
   }
   return points;
 }

@@ -19,6 +19,7 @@ struct Frame {
   double timestamp = 0;  // seconds
   cv::Mat grey;          // CV_8UC1; empty when the frame could not be decoded
   std::string source;    // the image file, or "video frame N", for messages
+  std::string decode_error;  // why `grey` is empty, when the decoder said ("the file is cut short")
 };
 
 // Sequential access to the frames; implementations decode on demand.

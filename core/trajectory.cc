@@ -2,11 +2,12 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <utility>
 
 #include "core/error.h"
+#include "core/format_string.h"
 
 namespace slamcmp {
 
@@ -25,6 +26,21 @@ bool parseNumbers(const std::string& line, std::vector<double>* out) {
     p = end;
   }
   return true;
+}
+
+void checkPlausibleSeconds(double seconds, const std::string& where) {
+  constexpr double kMaxSeconds = 1e11;
+  if (!std::isfinite(seconds)) throw InputError(where, "timestamp is not finite");
+  if (std::abs(seconds) <= kMaxSeconds) return;
+  std::string why = formatString("timestamp %g is not plausible as seconds (beyond %g s)", seconds, kMaxSeconds);
+  // Another unit since 1970 (1e8 s is 1973) if one brings it there.
+  for (const auto& [factor, unit] : {std::pair{1e9, "nanoseconds"}, {1e6, "microseconds"}, {1e3, "milliseconds"}})
+    if (std::abs(seconds) / factor >= 1e8 && std::abs(seconds) / factor <= kMaxSeconds) {
+      why += std::string(": it looks like ") + unit +
+             formatString(" (%g s); the file must be in seconds", seconds / factor);
+      break;
+    }
+  throw InputError(where, why);
 }
 
 namespace {
@@ -79,7 +95,21 @@ void checkIncreasing(const Trajectory& t, const std::string& where) {
     throw InputError(where, "timestamp goes back in time");
 }
 
-TrajectoryFormat detectFormat(const std::string& path) {
+std::vector<double> readKittiTimes(const std::string& path) {
+  std::vector<double> times;
+  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
+    if (v.size() != 1) throw InputError(atLine(path, n), "expected one timestamp");
+    checkPlausibleSeconds(v[0], atLine(path, n));
+    if (!times.empty() && v[0] < times.back())
+      throw InputError(atLine(path, n), "timestamp goes back in time");
+    times.push_back(v[0]);
+  });
+  return times;
+}
+
+}  // namespace
+
+TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
   if (lowerExtension(path) == "csv") return TrajectoryFormat::Euroc;
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
@@ -98,19 +128,6 @@ TrajectoryFormat detectFormat(const std::string& path) {
   throw InputError(path, "holds no pose");
 }
 
-std::vector<double> readKittiTimes(const std::string& path) {
-  std::vector<double> times;
-  forEachDataLine(path, [&](const std::vector<double>& v, int n) {
-    if (v.size() != 1) throw InputError(atLine(path, n), "expected one timestamp");
-    if (!times.empty() && v[0] < times.back())
-      throw InputError(atLine(path, n), "timestamp goes back in time");
-    times.push_back(v[0]);
-  });
-  return times;
-}
-
-}  // namespace
-
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
   if (name == "auto") return TrajectoryFormat::Auto;
   if (name == "tum") return TrajectoryFormat::Tum;
@@ -121,7 +138,7 @@ TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
 
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
                           const std::string& kitti_times_path) {
-  if (format == TrajectoryFormat::Auto) format = detectFormat(path);
+  if (format == TrajectoryFormat::Auto) format = detectTrajectoryFormat(path);
   Trajectory out;
   std::vector<double> times;
   if (format == TrajectoryFormat::Kitti && !kitti_times_path.empty())
@@ -166,6 +183,7 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
       case TrajectoryFormat::Auto:
         break;
     }
+    checkPlausibleSeconds(p.timestamp, where);
     out.push_back(p);
     checkIncreasing(out, where);
   });
@@ -179,10 +197,8 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
 std::string formatTumLine(const StampedPose& p) {
   const Quat q = p.T_world_camera.quat();
   const Vec3& t = p.T_world_camera.t();
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", p.timestamp, t.x(), t.y(),
-                t.z(), q.x(), q.y(), q.z(), q.w());
-  return buf;
+  return formatString("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f", p.timestamp, t.x(), t.y(), t.z(), q.x(),
+                      q.y(), q.z(), q.w());
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory) {

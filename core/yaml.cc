@@ -1,8 +1,12 @@
 #include "core/yaml.h"
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <system_error>
@@ -23,6 +27,20 @@ struct YamlProblem {
   std::string where;  // "" or the dotted path of the key concerned, e.g. "cslam.board.track"
   std::string what;   // "" when the text is well-formed YAML without repeated keys
 };
+
+// False for an integer OpenCV would wrap: its parser reads one with strtol (any base) and keeps
+// the low 32 bits, so 4294967305 becomes 9 and 2147483648 a negative number. Anything else
+// (a real, a string) is true here; its type is checked where it is read.
+bool fitsOpenCvInt(const std::string& value) {
+  const char* begin = value.c_str();
+  const char* digits = begin + (*begin == '-' || *begin == '+');
+  if (!std::isdigit(static_cast<unsigned char>(*digits))) return true;
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(begin, &end, 0);
+  if (*end != '\0') return true;  // a real ("1e3", "2.5") or not a number
+  return errno != ERANGE && v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max();
+}
 
 YamlProblem yamlSyntaxProblem(std::string text) {
   int added_lines = 0;  // lines inserted above the text: subtracted from libyaml's line numbers
@@ -60,6 +78,7 @@ YamlProblem yamlSyntaxProblem(std::string text) {
     const bool node_start = type == YAML_SCALAR_EVENT || type == YAML_ALIAS_EVENT ||
                             type == YAML_MAPPING_START_EVENT || type == YAML_SEQUENCE_START_EVENT;
     std::string child_path = open.empty() ? "" : open.back().path;
+    const bool is_key = node_start && !open.empty() && open.back().mapping && open.back().expect_key;
     if (node_start && !open.empty() && open.back().mapping) {
       Level& level = open.back();
       if (level.expect_key) {
@@ -83,6 +102,16 @@ YamlProblem yamlSyntaxProblem(std::string text) {
         child_path = level.path.empty() ? level.key : level.path + "." + level.key;
       }
       level.expect_key = !level.expect_key;
+    }
+    if (type == YAML_SCALAR_EVENT && !is_key && event.data.scalar.style == YAML_PLAIN_SCALAR_STYLE) {
+      const std::string value(reinterpret_cast<const char*>(event.data.scalar.value), event.data.scalar.length);
+      if (!fitsOpenCvInt(value)) {
+        problem = {child_path, value + " is out of range: OpenCV reads integers as 32 bits (" +
+                                   std::to_string(std::numeric_limits<int>::min()) + " to " +
+                                   std::to_string(std::numeric_limits<int>::max()) + ") and would wrap it"};
+        yaml_event_delete(&event);
+        break;
+      }
     }
     if (type == YAML_MAPPING_START_EVENT || type == YAML_SEQUENCE_START_EVENT) {
       Level level;
@@ -190,6 +219,8 @@ int readInt(const cv::FileNode& node, const std::string& where) {
   if (node.isReal()) {
     const double v = static_cast<double>(node);
     if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 2e9) return static_cast<int>(v);
+    if (std::isfinite(v) && v == std::floor(v))
+      throw InputError(where, "must be an integer from -2e9 to 2e9");
   }
   throw InputError(where, "must be an integer");
 }

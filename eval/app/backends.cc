@@ -71,8 +71,15 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
   if (!config_path.empty()) {
     const YamlFile config(config_path);
     if (config.root().isMap())  // a file of only the %YAML header holds no section: the defaults
-      for (const std::string& section : config.root().keys())
-        findBackend(section, config_path + ": " + section);  // a misspelt section is not ignored
+      for (const std::string& section : config.root().keys()) {
+        // A misspelt section is not ignored.
+        const BackendRegistration& other = findBackend(section, config_path + ": " + section);
+        // Nor a typo in another back-end's section: the same file runs that back-end (compare) later.
+        if (other.name == backend.name) continue;
+        const std::unique_ptr<BackendOptions> other_options = other.default_options();
+        other_options->read(config.node(section), config_path + ": " + section);
+        other_options->check(config_path + ": " + section);
+      }
     where = config_path + ": " + backend.name;
     options->read(config.node(backend.name), where);
   }

@@ -32,7 +32,8 @@ std::string backendsHelp();
 // then every random seed set to `seed` when given (run --seed), then each `--set section.key=value`
 // naming this back-end, checked, and when `image_size` is given (the sequence's, known once its
 // first frame is read) checked against it too. A top-level section of the file that names no
-// back-end, a --set for another back-end, or a seed for a back-end without one is an InputError.
+// back-end, an option another back-end's section gives that back-end does not take (or a value it
+// refuses), a --set for another back-end, or a seed for a back-end without one is an InputError.
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
                                                    const std::vector<std::string>& sets,
                                                    std::optional<int> seed = std::nullopt,

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "eval/app/commands.h"
 #include "eval/app/compare.h"
+#include "eval/app/run_sequence.h"
 
 namespace slamcmp {
 
@@ -31,7 +32,7 @@ int runCommandLine(CLI::App& app, int argc, const char* const* argv, std::ostrea
   } catch (const CLI::ParseError& e) {
     err << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
     return 2;
-  } catch (const CompareInterrupted& e) {
+  } catch (const Interrupted& e) {
     err << "slamcmp: " << e.what() << "\n";
     return 130;  // as a shell reports a command stopped by Ctrl-C
   } catch (const InputError& e) {

@@ -61,11 +61,9 @@ void addCompareCommand(CLI::App& app) {
     installInterruptHandler();
     if (!collect_dir->empty()) {
       if (!sequences->empty()) throw InputError("--collect", "takes no --sequence (the plan lists them)");
-      int unfinished = 0;
+      std::vector<UnfinishedRun> unfinished;
       const std::string report = collectCompare(*collect_dir, &unfinished);
-      std::cout << "report: " << report;
-      if (unfinished > 0) std::cout << " (" << unfinished << " runs not finished: see its last section)";
-      std::cout << "\n";
+      sayCompareReport(*collect_dir, report, unfinished);
       return;
     }
     if (sequences->empty()) throw InputError("--sequence", "give at least one sequence");
@@ -80,8 +78,9 @@ void addCompareCommand(CLI::App& app) {
       return;
     }
     if (options->out_dir.empty()) throw InputError("compare", "give --out DIR (or --plan DIR, or --collect DIR)");
-    const std::string report = runCompare(*options);
-    std::cout << "report: " << report << "\n";
+    std::vector<UnfinishedRun> unfinished;
+    const std::string report = runCompare(*options, &unfinished);
+    sayCompareReport(options->out_dir, report, unfinished);
   });
 }
 

@@ -50,6 +50,8 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
                 e.drift->kitti_lengths ? "100..800 m" : "0.1..0.8 of the path", e.drift->path_m);
     for (const DriftAtLength& at : e.drift->lengths) std::printf(" %.3g", at.length_m);
     std::printf(" m; %.4f %% translation, %.4f deg/m rotation\n", e.drift->trans_percent, e.drift->rot_deg_per_m);
+  } else {
+    std::printf("drift: not measured: %s\n", e.no_drift.c_str());
   }
 }
 
@@ -113,8 +115,17 @@ void addEvalCommand(CLI::App& app) {
       return;
     }
     request->options.check();
-    const Trajectory groundtruth = readTrajectory(request->groundtruth_path);
-    const Trajectory estimate = readTrajectory(request->estimate_path);
+    const TrajectoryFormat groundtruth_format = detectTrajectoryFormat(request->groundtruth_path);
+    const TrajectoryFormat estimate_format = detectTrajectoryFormat(request->estimate_path);
+    const Trajectory groundtruth = readTrajectory(request->groundtruth_path, groundtruth_format);
+    const Trajectory estimate = readTrajectory(request->estimate_path, estimate_format);
+    // KITTI files carry no time: their poses pair by index, which a file cut short or with frames
+    // dropped would shift silently. evo refuses them unless both have as many poses.
+    if (groundtruth_format == TrajectoryFormat::Kitti && estimate_format == TrajectoryFormat::Kitti &&
+        groundtruth.size() != estimate.size())
+      throw InputError(request->estimate_path + " against " + request->groundtruth_path,
+                       "KITTI files pair their poses by index (they carry no time), so they must have as many: " +
+                           std::to_string(estimate.size()) + " against " + std::to_string(groundtruth.size()));
     TrajectoryEvaluation evaluation;
     try {
       evaluation = evaluateTrajectory(groundtruth, estimate, request->options);

@@ -38,9 +38,11 @@ void addReproduceCommand(CLI::App& app) {
       std::cerr << "rendered " << dir << " (" << synth.frameCount() << " frames) in "
                 << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s\n";
       options.sequences.push_back(dir);
-      if (interrupted()) return;
+      if (interrupted()) throw Interrupted("interrupted while rendering " + dir + "; nothing ran");
     }
-    std::cout << "report: " << runCompare(options) << "\n";
+    std::vector<UnfinishedRun> unfinished;
+    const std::string report = runCompare(options, &unfinished);
+    sayCompareReport(options.out_dir, report, unfinished);
   });
 }
 

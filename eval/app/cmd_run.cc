@@ -49,6 +49,11 @@ void addRunCommand(CLI::App& app) {
     if (summary.contains("ate")) std::cout << ", ATE rmse " << summary["ate"]["trans"]["rmse"] << " m";
     if (summary.contains("scale")) std::cout << " after Sim(3) alignment, scale " << summary["scale"];
     std::cout << "\n";
+    // Not a finished run, though its outputs are whole for the frames done (q in --show is the
+    // user's own end of the run: exit 0).
+    if (interrupted())
+      throw Interrupted("interrupted after " + summary["frames"].dump() + " frames; the outputs cover those and "
+                        "summary.json says \"interrupted\": true");
   });
 }
 

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <sstream>
 
@@ -123,7 +124,7 @@ size_t planCompare(const CompareOptions& options) {
   return plan.runs.size();
 }
 
-std::string collectCompare(const std::string& dir_given, int* unfinished) {
+std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedRun>* unfinished) {
   const std::string dir = absoluteDir(dir_given);
   const std::string plan_path = dir + "/plan.json";
   std::ifstream in(plan_path);
@@ -139,28 +140,43 @@ std::string collectCompare(const std::string& dir_given, int* unfinished) {
   for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(path));
   std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene
   std::vector<RunResult> runs;
-  int not_finished = 0;
+  std::vector<UnfinishedRun> not_finished;
   for (const PlannedRun& planned : plan.runs) {
     auto it = trial_seqs.find(planned.sequence_path);
     if (it == trial_seqs.end()) it = trial_seqs.emplace(planned.sequence_path, readSequenceInfo(planned.sequence_path)).first;
     runs.push_back(collectRun(plan, planned, dir, it->second));
-    if (runs.back().status != "ok") ++not_finished;
+    if (runs.back().status != "ok") not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }
   fs::create_directories(dir + "/figures");
   if (unfinished) *unfinished = not_finished;
   return writeCompareReport(plan, seqs, runs, dir);
 }
 
-std::string runCompare(const CompareOptions& options) {
+void sayCompareReport(const std::string& dir, const std::string& report, const std::vector<UnfinishedRun>& unfinished) {
+  std::cout << "report: " << report;
+  if (!unfinished.empty()) std::cout << " (" << unfinished.size() << " runs not finished: see its last section)";
+  std::cout << "\n";
+  int failed = 0;
+  for (const UnfinishedRun& run : unfinished)
+    if (run.status == "failed") {
+      std::cerr << "slamcmp: " << (std::filesystem::path(dir) / run.dir).string() << ": failed: " << run.error << "\n";
+      ++failed;
+    }
+  if (failed > 0)
+    throw InputError(report, std::to_string(failed) + " run(s) failed (the lines above); the report marks them");
+}
+
+std::string runCompare(const CompareOptions& options, std::vector<UnfinishedRun>* unfinished) {
   const Plan plan = makePlan(options);
   const std::string dir = absoluteDir(options.out_dir);
   writePlanFiles(plan, dir);
   const bool finished = runPlannedJobs(plan, dir, options.jobs);
-  int unfinished = 0;
-  const std::string report = collectCompare(dir, &unfinished);
+  std::vector<UnfinishedRun> not_finished;
+  const std::string report = collectCompare(dir, &not_finished);
   if (!finished)
-    throw CompareInterrupted("interrupted: " + report + " marks the " + std::to_string(unfinished) +
-                             " runs not finished");
+    throw Interrupted("interrupted: " + report + " marks the " + std::to_string(not_finished.size()) +
+                      " runs not finished");
+  if (unfinished) *unfinished = not_finished;
   return report;
 }
 

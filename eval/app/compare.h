@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/app/run_sequence.h"
 #include "eval/report/compare_report.h"
 
 namespace slamcmp {
@@ -34,19 +35,26 @@ struct CompareOptions {
   std::string slamcmp;  // the binary the runs execute; "" = this process's own (tests give slamcmp's)
 };
 
-// A compare stopped by Ctrl-C, SIGTERM or SIGHUP: its report is written and marks the runs not
-// finished; main exits 130.
-class CompareInterrupted : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
+// A run of a compare that did not finish, as its report lists it.
+struct UnfinishedRun {
+  std::string dir;     // runs/NAME, relative to the compare's folder
+  std::string status;  // failed | interrupted | not run
+  std::string error;   // why ("" if nothing says)
 };
 
 // Plans, runs every run (options.jobs at once, each a `slamcmp run` process) and collects: writes
 // <out>/plan.json, jobs.txt, slurm.sbatch, runs/, logs/, results.csv, report.md, the tables'
-// CSVs and figures/. Returns the report's path. A run that fails is reported in the tables, not
-// fatal; bad options or a sequence that cannot be opened are InputErrors before anything runs.
-// Throws CompareInterrupted (after writing the report) when interrupted.
-std::string runCompare(const CompareOptions& options);
+// CSVs and figures/. Returns the report's path; `unfinished` (if given) receives the runs not
+// finished. A run that fails is reported in the tables, not fatal (sayCompareReport says it); bad
+// options or a sequence that cannot be opened are InputErrors before anything runs.
+// Throws Interrupted (after writing the report) when interrupted.
+std::string runCompare(const CompareOptions& options, std::vector<UnfinishedRun>* unfinished = nullptr);
+
+// The end of compare, --collect and reproduce: the report's path on stdout (with how many runs did
+// not finish); then each failed run on stderr, one line each naming its folder and why, and an
+// InputError (exit 2): a compare whose runs failed is not a finished one. Runs not run yet (a plan
+// collected early) or interrupted are only counted: the report lists them. `dir`: the compare's folder.
+void sayCompareReport(const std::string& dir, const std::string& report, const std::vector<UnfinishedRun>& unfinished);
 
 // compare --plan: writes <out>/plan.json, jobs.txt (one `slamcmp run` a line) and slurm.sbatch
 // (an array job over jobs.txt), rendering the trials' synthetic sequences; runs nothing. Returns
@@ -54,7 +62,7 @@ std::string runCompare(const CompareOptions& options);
 size_t planCompare(const CompareOptions& options);
 
 // compare --collect DIR: the report from a plan's finished runs, exactly as runCompare writes it.
-// Returns the report's path; `unfinished` (if given) receives the number of runs not finished.
-std::string collectCompare(const std::string& dir, int* unfinished = nullptr);
+// Returns the report's path; `unfinished` (if given) receives the runs not finished.
+std::string collectCompare(const std::string& dir, std::vector<UnfinishedRun>* unfinished = nullptr);
 
 }  // namespace slamcmp

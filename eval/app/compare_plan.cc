@@ -229,7 +229,7 @@ Plan makePlan(const CompareOptions& options) {
           sequence_path = (dir / "sequences" / ("seed" + std::to_string(trial)) / plan.sequence_names[s]).string();
           std::cerr << "rendering " << sequence_path << " (" << render.frames << " frames)\n";
           writeSyntheticSequence(render, sequence_path);
-          if (interrupted()) throw CompareInterrupted("interrupted while rendering " + sequence_path + "; nothing ran");
+          if (interrupted()) throw Interrupted("interrupted while rendering " + sequence_path + "; nothing ran");
         }
       }
       for (size_t m = 0; m < plan.methods.size(); ++m) {

@@ -1,6 +1,6 @@
 // slamcmp: runs monocular SLAM back-ends side by side and scores them.
 // Exit codes: 0 done, 2 bad usage or bad input (one line on stderr), 1 internal failure, 130 an
-// interrupted compare or reproduce.
+// interrupted run, compare or reproduce.
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>

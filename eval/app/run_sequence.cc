@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <set>
 
 #include "core/error.h"
 #include "core/frame_prefetcher.h"
@@ -111,9 +112,14 @@ nlohmann::json runSequence(const RunRequest& request) {
 
   const std::string out_dir =
       request.out_dir.empty() ? defaultRunDir(seq.name, request.backend, request.mode) : request.out_dir;
-  RunRecorder recorder(out_dir, tracker->name());
-  std::error_code ignored;  // a run scored before into this folder: its NEES is not this run's
-  std::filesystem::remove(out_dir + "/nees.csv", ignored);
+  // A run before into this folder: its outputs are not this run's, and one left beside this run's
+  // (a summary.json beside a trajectory.txt cut short by a failure) would pass for a whole run.
+  // Only these files, by name: the folder may hold anything else.
+  for (const char* stale : {"summary.json", "map.ply", "nees.csv"}) {
+    std::error_code ignored;
+    std::filesystem::remove(std::filesystem::path(out_dir) / stale, ignored);
+  }
+  RunRecorder recorder(out_dir, tracker->name());  // replaces trajectory.txt and frames.csv
   const int total = request.max_frames >= 0 && seq.frames->size() >= 0
                         ? std::min(request.max_frames, seq.frames->size())
                         : seq.frames->size();
@@ -125,9 +131,16 @@ nlohmann::json runSequence(const RunRequest& request) {
   std::vector<CovariantPose> covariant_poses;  // filters' poses with their covariance, for NEES
   std::vector<double> frame_timestamps;        // every frame read, posed or not
   bool quit = false;  // q or Esc in the --show window: this run only, unlike Ctrl-C
+  std::set<std::string> undecodable;  // image files warned about
   while (!interrupted() && !quit && frames.next(&d)) {
     frame_timestamps.push_back(d.frame.timestamp);
     if (d.frame.grey.empty()) {
+      // One bad image in a long sequence must not end the run, nor pass unseen: said once a file
+      // (a looped list plays a file again).
+      if (undecodable.insert(d.frame.source).second)
+        std::cerr << d.frame.source << ": warning: cannot be decoded as an image"
+                  << (d.frame.decode_error.empty() ? "" : " (" + d.frame.decode_error + ")")
+                  << "; its frame is recorded as lost\n";
       recorder.recordUndecodable(d.frame, d.decode_ms);
       continue;
     }
@@ -146,7 +159,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   }
   progress.finish();
   recorder.flush();  // before finish() may throw: the files hold every frame recorded
-  if (recorder.frames() == 0 && interrupted()) throw InputError(seq.path, "interrupted before the first frame");
+  if (recorder.frames() == 0 && interrupted()) throw Interrupted(seq.path + ": interrupted before the first frame");
   if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
   if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
   if (!interrupted() && !quit) {
@@ -207,8 +220,9 @@ nlohmann::json runSequence(const RunRequest& request) {
         extra["nees"] = neesToJson(*nees);
         writeNeesCsv(out_dir + "/nees.csv", nees->per_frame);  // for compare's test over trials
       }
-    } catch (const InputError& e) {  // the run is fine; only its score is impossible
+    } catch (const InputError& e) {  // the run is fine; only its score is impossible, which is said
       extra["metrics_error"] = e.what();
+      std::cerr << seq.groundtruth_path << ": warning: the run cannot be scored against it: " << e.what() << "\n";
     }
   }
   const std::vector<MapPoint> map = tracker->mapPoints();

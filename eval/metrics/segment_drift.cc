@@ -1,6 +1,7 @@
 #include "eval/metrics/segment_drift.h"
 
 #include <cmath>
+#include <sstream>
 
 namespace slamcmp {
 
@@ -30,11 +31,28 @@ double pathLength(const std::vector<SE3>& T) {
 }
 
 std::optional<SegmentDrift> segmentDrift(const std::vector<SE3>& T_world_gt, const std::vector<SE3>& T_world_est,
-                                         double path_m) {
-  if (!(path_m > 0) || T_world_gt.size() < 2) return std::nullopt;
+                                         double path_m, std::string* why_none) {
+  const auto none = [why_none](const std::string& why) {
+    if (why_none) *why_none = why;
+    return std::nullopt;
+  };
+  if (!(path_m > 0)) return none("the ground truth does not move");
+  if (T_world_gt.size() < 2) return none("fewer than 2 matched poses");
   // The devkit's trajectoryDistances: the path travelled up to each pose.
   std::vector<double> dist(T_world_gt.size(), 0.0);
   for (size_t i = 1; i < dist.size(); ++i) dist[i] = dist[i - 1] + (T_world_gt[i].t() - T_world_gt[i - 1].t()).norm();
+  // A segment's error is divided by its nominal length, though it ends at the first pose beyond
+  // it: poses further apart on average than even the longest segment (2 poses 6 mm apart against
+  // tenths of 0.6 to 4.8 mm) make every segment the same one motion, many times its length, and
+  // its drift that many times too. The devkit's KITTI poses are 1 m apart against 100..800 m.
+  const double longest = driftSegmentLengths(path_m).back();
+  const double spacing = dist.back() / static_cast<double>(dist.size() - 1);
+  if (spacing > longest) {
+    std::ostringstream why;
+    why << "the " << dist.size() << " matched poses are " << spacing << " m apart on average, more than the "
+        << "longest segment (" << longest << " m): too few to measure drift over segments";
+    return none(why.str());
+  }
 
   SegmentDrift out;
   out.path_m = path_m;
@@ -65,7 +83,7 @@ std::optional<SegmentDrift> segmentDrift(const std::vector<SE3>& T_world_gt, con
     out.segments += at.segments;
     out.lengths.push_back(at);
   }
-  if (out.segments == 0) return std::nullopt;
+  if (out.segments == 0) return none("no segment fits between the matched poses");
   out.trans_percent = 100.0 * trans_sum / out.segments;
   out.rot_deg_per_m = (180.0 / M_PI) * rot_sum / out.segments;
   return out;

@@ -9,6 +9,7 @@
 // tenths of the path (0.1, 0.2, ..., 0.8 of its length), so that a room-scale run of a metre gets
 // segments of 0.1..0.8 m from as many starts as a KITTI drive gets 100..800 m ones.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -41,9 +42,11 @@ double pathLength(const std::vector<SE3>& T_world_camera);
 
 // T_world_gt[k] and T_world_est[k] are one matched pose pair, in time order. `path_m`: the whole
 // ground truth's path length, which sets the segment lengths (so every method on a sequence gets
-// the same ones, whatever it lost). Nothing when no segment fits.
+// the same ones, whatever it lost). Nothing when no segment fits, or when the matched poses are
+// further apart on average than the longest segment is long (too few to measure any); then why in
+// `why_none` when given.
 std::optional<SegmentDrift> segmentDrift(const std::vector<SE3>& T_world_gt, const std::vector<SE3>& T_world_est,
-                                         double path_m);
+                                         double path_m, std::string* why_none = nullptr);
 
 // `drift` of eval --json: segments_m, trans_percent, rot_deg_per_m, path_m, lengths_from, per_length.
 nlohmann::json driftToJson(const SegmentDrift& drift);

@@ -117,7 +117,7 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   std::vector<SE3> T_world_gt_covered;
   for (size_t i = out.pairs.groundtruth.front(); i <= out.pairs.groundtruth.back() && i < groundtruth.size(); ++i)
     T_world_gt_covered.push_back(groundtruth[i].T_world_camera);
-  out.drift = segmentDrift(T_world_gt, T_world_est, pathLength(T_world_gt_covered));
+  out.drift = segmentDrift(T_world_gt, T_world_est, pathLength(T_world_gt_covered), &out.no_drift);
   return out;
 }
 
@@ -134,6 +134,7 @@ nlohmann::json evaluationToJson(const TrajectoryEvaluation& e, const EvalOptions
                         {"max_diff", options.max_diff}, {"t_offset", options.t_offset},
                         {"ate", ate},                   {"rpe", rpe}};
   if (e.drift) out["drift"] = driftToJson(*e.drift);
+  else out["no_drift"] = e.no_drift;
   return out;
 }
 

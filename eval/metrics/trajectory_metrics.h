@@ -49,8 +49,10 @@ struct TrajectoryEvaluation {
   Vec3 rpe_axis_rmse = Vec3::Zero();  // m, rms of E's translation along x, y, z
   Statistics rpe_trans_stats, rpe_rot_deg_stats;
   // KITTI devkit drift over the matched poses (after alignment), its segment lengths set by the
-  // ground truth's path over the time the matched poses span; nothing when no segment fits.
+  // ground truth's path over the time the matched poses span; nothing when no segment fits, and
+  // then why in `no_drift`.
   std::optional<SegmentDrift> drift;
+  std::string no_drift;
 };
 
 // Associates, aligns and measures. Throws InputError when no pose pairs are found, when an
@@ -60,8 +62,8 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
                                         const EvalOptions& options);
 
 // SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, trans,
-// rot_deg}, each statistic block rmse, mean, median, std, min, max; drift when it has segments;
-// plus max_diff, t_offset, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
+// rot_deg}, each statistic block rmse, mean, median, std, min, max; drift when it has segments
+// (else no_drift, why not); plus max_diff, t_offset, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
 nlohmann::json evaluationToJson(const TrajectoryEvaluation& evaluation, const EvalOptions& options);
 
 }  // namespace slamcmp

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
@@ -37,15 +38,85 @@ SequenceInfo readSequenceInfo(const std::string& path) {
   return info;
 }
 
+namespace {
+
+// summary.json's `key` (a path below the top level, e.g. "ms_per_frame.median" is {"ms_per_frame",
+// "median"}): what the report reads from it, checked so that a file edited or written by something
+// else is refused naming the field, not turned into an empty cell or a plotting error.
+const nlohmann::json& summaryField(const nlohmann::json& summary, std::initializer_list<const char*> key,
+                                   const std::string& path) {
+  const nlohmann::json* j = &summary;
+  std::string name;
+  for (const char* k : key) {
+    name += (name.empty() ? "" : ".") + std::string(k);
+    if (!j->is_object() || !j->contains(k)) throw InputError(path + ": " + name, "missing field");
+    j = &(*j)[k];
+  }
+  return *j;
+}
+
+// A top-level whole number in [0, max].
+int summaryCount(const nlohmann::json& summary, const char* key, const std::string& path, int max) {
+  const nlohmann::json& j = summaryField(summary, {key}, path);
+  const double v = j.is_number() ? j.get<double>() : NAN;
+  if (!(v >= 0 && v <= max) || v != std::floor(v))
+    throw InputError(path + ": " + key, "must be a whole number from 0 to " + std::to_string(max) + ", got " + j.dump());
+  return static_cast<int>(v);
+}
+
+void checkSummary(const nlohmann::json& summary, const std::string& path) {
+  if (!summary.is_object()) throw InputError(path, "must hold a JSON object");
+  const int frames = summaryCount(summary, "frames", path, std::numeric_limits<int>::max());
+  const int tracked = summaryCount(summary, "tracked", path, frames);
+  summaryCount(summary, "lost", path, frames - tracked);
+  if (!summaryField(summary, {"first_lost_frame"}, path).is_null())
+    summaryCount(summary, "first_lost_frame", path, frames - 1);
+  for (const char* timing : {"ms_per_frame", "cpu_ms_per_frame"})
+    for (const char* statistic : {"median", "mean", "p99", "max"}) {
+      const nlohmann::json& j = summaryField(summary, {timing, statistic}, path);
+      if (!j.is_number() || !(j.get<double>() >= 0) || !std::isfinite(j.get<double>()))
+        throw InputError(path + ": " + timing + "." + statistic, "must be a number of milliseconds, got " + j.dump());
+    }
+  if (summary.contains("interrupted") && !summary["interrupted"].is_boolean())
+    throw InputError(path + ": interrupted", "must be true or false, got " + summary["interrupted"].dump());
+  if (summary.contains("alignment") && !summary["alignment"].is_string())
+    throw InputError(path + ": alignment", "must be a string, got " + summary["alignment"].dump());
+  if (summary.contains("stages")) {
+    if (!summary["stages"].is_object()) throw InputError(path + ": stages", "must be an object");
+    for (const auto& [stage, st] : summary["stages"].items())
+      for (const char* k : {"mean", "calls"})
+        if (!st.is_object() || !st.contains(k) || !st[k].is_number() || !std::isfinite(st[k].get<double>()))
+          throw InputError(path + ": stages." + stage + "." + k, "must be a number");
+  }
+}
+
+}  // namespace
+
 RunResult loadRun(const Method& method, const std::string& dir, const SequenceInfo& seq) {
   RunResult r;
   r.method = method;
   r.dir = dir;
-  std::ifstream in(dir + "/summary.json");
-  if (!in) throw InputError(dir + "/summary.json", "missing");
-  r.summary = nlohmann::json::parse(in);
+  const std::string summary_path = dir + "/summary.json";
+  std::ifstream in(summary_path);
+  if (!in) throw InputError(summary_path, "missing");
+  try {
+    r.summary = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(summary_path, std::string("not JSON: ") + e.what());
+  }
+  checkSummary(r.summary, summary_path);
   r.frames = readFramesCsv(dir + "/frames.csv");
-  if (r.summary.value("tracked", 0) > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
+  const int tracked = r.summary["tracked"].get<int>();
+  if (tracked > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
+  // Files of two runs side by side (an old summary.json beside a rerun's files cut short) are no run.
+  const int frames = r.summary["frames"].get<int>();
+  if (static_cast<int>(r.frames.size()) != frames)
+    throw InputError(dir + "/frames.csv", "has " + std::to_string(r.frames.size()) + " rows but summary.json says " +
+                                              std::to_string(frames) + " frames: the files are not from one run");
+  if (static_cast<int>(r.trajectory.size()) != tracked)
+    throw InputError(dir + "/trajectory.txt", "has " + std::to_string(r.trajectory.size()) +
+                                                  " poses but summary.json says " + std::to_string(tracked) +
+                                                  " tracked: the files are not from one run");
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   if (fs::exists(dir + "/nees.csv")) r.nees = readNeesCsv(dir + "/nees.csv");
   if (seq.scene) {

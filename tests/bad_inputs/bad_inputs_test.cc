@@ -283,6 +283,11 @@ std::vector<BadCase> cases() {
       rgbCase("RgbTimestampNotNumber", "zero rgb/0.png\n", ":1: timestamp 'zero' is not a number"),
       rgbCase("RgbTimestampNaN", "0.0 rgb/0.png\nnan rgb/1.png\n", ":2: timestamp is not finite"),
       rgbCase("RgbTimestampInfinite", "0.0 rgb/0.png\ninf rgb/1.png\n", ":2: timestamp is not finite"),
+      // Found by the reliability probe: 2e300 was accepted and cut trajectory.txt's lines at 255 characters.
+      rgbCase("RgbTimestampHuge", "0.0 rgb/0.png\n2e300 rgb/1.png\n",
+              ":2: timestamp 2e+300 is not plausible as seconds (beyond 1e+11 s)"),
+      rgbCase("RgbTimestampNanoseconds", "1403715572212143183 rgb/0.png\n",
+              ":1: timestamp 1.40372e+18 is not plausible as seconds (beyond 1e+11 s): it looks like nanoseconds"),
       rgbCase("RgbTimestampsOutOfOrder", "0.1 rgb/0.png\n0.0 rgb/1.png\n", ":2: timestamp goes back in time"),
       rgbCase("RgbTimestampDuplicated", "0.1 rgb/0.png\n0.1 rgb/1.png\n", ":2: duplicate timestamp"),
       rgbCase("RgbTruncatedLastLine", k3.substr(0, k3.size() - 8), ":3: image"),
@@ -371,12 +376,41 @@ std::vector<BadCase> cases() {
       configCase("ConfigNaN", "%YAML:1.0\n---\ncslam:\n  board:\n    max_grid_error_px: .nan\n",
                  "cslam.board.max_grid_error_px"),
       configCase("ConfigSectionNotMap", "%YAML:1.0\n---\ncslam: 3\n", "cslam"),
+      // Found by the reliability probe: a typo in another back-end's section passed unseen until
+      // that back-end ran (in a compare, after hours of the others).
+      configCase("ConfigTypoInAnotherBackEndsSection", "%YAML:1.0\n---\ncslam:\n  lk_levels: 3\nmonoslam:\n  bogus: 1\n",
+                 "monoslam.bogus", "cslam", {"unknown option"}),
+      configCase("ConfigBadValueInAnotherBackEndsSection",
+                 "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",
+                 "hybrid.corners.pixel_sigma", "monoslam", {"must be positive"}),
+      // Found by the reliability probe: OpenCV keeps an integer's low 32 bits (4294967305 was run as 9).
+      configCase("ConfigIntegerWraps", "%YAML:1.0\n---\ncslam:\n  lk_window_px: 4294967305\n", "cslam.lk_window_px",
+                 "cslam", {"4294967305 is out of range"}),
+      configCase("ConfigIntegerJustOutOfRange", "%YAML:1.0\n---\ncslam:\n  lk_levels: 2147483648\n",
+                 "cslam.lk_levels", "cslam", {"2147483648 is out of range"}),
+      configCase("ConfigIntegerWrapsInHex", "%YAML:1.0\n---\ncslam:\n  lk_levels: 0x100000003\n", "cslam.lk_levels",
+                 "cslam", {"0x100000003 is out of range"}),
+      configCase("ConfigIntegerAsLargeReal", "%YAML:1.0\n---\ncslam:\n  lk_levels: 3.0e9\n", "cslam.lk_levels",
+                 "cslam", {"must be an integer from -2e9 to 2e9"}),
+      // Found by the reliability probe: a skew of 1e6 ran (435 m of error).
+      yamlCase("CameraSkewHuge", "camera.yaml", camera("150., 1e6, 79.5, 0., 150., 59.5, 0., 0., 1.", "0, 0, 0, 0"),
+               "camera_matrix: skew (K[0][1]) 1e+06 px is not plausible"),
+      yamlCase("CameraSkewNegative", "camera.yaml", camera("150., -2., 79.5, 0., 150., 59.5, 0., 0., 1.", "0, 0, 0, 0"),
+               "camera_matrix: skew (K[0][1]) -2 px is not plausible (expected at most 1.5 px"),
+      yamlCase("CameraSizeWraps", "camera.yaml",
+               std::string(kCameraYaml).replace(std::string(kCameraYaml).find("160"), 3, "4294967456"),
+               "image_width: 4294967456 is out of range"),
       // Ground truth and EuRoC lists beside a sequence.
       runCase("GroundTruthShortLine",
               [](const std::string& seq) {
                 writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n0.1 0 0\n");
               },
               {"seq/groundtruth.txt:2", "fields"}),
+      runCase("GroundTruthTimestampHuge",
+              [](const std::string& seq) {
+                writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n1e300 0 0 -1 0 0 0 1\n");
+              },
+              {"seq/groundtruth.txt:2", "not plausible as seconds"}),
       {"EurocListWithoutComma",
        [](const TempDir& tmp) {
          std::filesystem::create_directories(tmp.file("mav0/cam0/data"));
@@ -478,6 +512,8 @@ std::vector<BadCase> cases() {
                ":2: a field is not a number"),
       evalCase("TumNaN", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 nan 0 0 0 1\n", ":2: NaN or infinite"),
       evalCase("TumInfinite", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 1e999 0 0 0 1\n", ":2: NaN or infinite"),
+      evalCase("TumTimestampHuge", "est.txt", "0.0 0 0 0 0 0 0 1\n2e300 0 0 0 0 0 0 1\n",
+               ":2: timestamp 2e+300 is not plausible as seconds"),
       evalCase("TumZeroQuaternion", "est.txt", "0.0 0 0 0 0 0 0 0\n", ":1: quaternion norm"),
       evalCase("TumOutOfOrder", "est.txt", "0.1 0 0 0 0 0 0 1\n0.0 0 0 0 0 0 0 1\n",
                ":2: timestamp goes back"),
@@ -489,6 +525,15 @@ std::vector<BadCase> cases() {
                ":1: the 3x3 part is not a rotation"),
       evalCase("KittiElevenFields", "est.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1\n",
                ":2: has 11 fields"),
+      // Found by the reliability probe: KITTI poses of different counts were paired by index silently.
+      {"KittiOfAnotherLength",
+       [](const TempDir& tmp) {
+         const std::string pose = "1 0 0 0 0 1 0 0 0 0 1 0\n";
+         writeText(tmp.file("gt.txt"), pose + pose + pose + pose);
+         writeText(tmp.file("est.txt"), pose + pose + pose);
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt"),
+                           {tmp.file("est.txt") + " against " + tmp.file("gt.txt"), "must have as many: 3 against 4"}};
+       }},
       evalCase("UnknownFieldCount", "est.txt", "1 2 3 4 5\n", ":1: has 5 fields"),
       {"EvalAlignUnknown",
        [](const TempDir& tmp) {

@@ -67,6 +67,22 @@ TEST(CameraYaml, WriteReadRoundTripKeepsEveryValue) {
   }
 }
 
+// A calibration that estimated skew (Zhang's published one: 0.204494 px of fx 832.5) is read as written.
+TEST(CameraYaml, ReadsARealisticSkew) {
+  test::TempDir dir;
+  CameraModel c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = 832.5;
+  c.fy = 832.53;
+  c.cx = 303.959;
+  c.cy = 206.585;
+  c.skew = 0.204494;
+  c.num_distortion = 4;
+  writeCameraYaml(dir.file("camera.yaml"), c);
+  EXPECT_EQ(readCameraYaml(dir.file("camera.yaml")).skew, c.skew);
+}
+
 // The body of a valid camera.yaml with one part replaced.
 std::string cameraYaml(const std::string& size = "image_width: 640\nimage_height: 480\n",
                        const std::string& K =
@@ -132,6 +148,11 @@ INSTANTIATE_TEST_SUITE_P(
                                  "   rows: 1\n   cols: 6\n   dt: d\n"
                                  "   data: [ -0.1, 0.01, 0., 0., 0., 0. ]\n"),
                       "distortion_coefficients"},
+        BadCameraCase{"skew_implausible",  // at most 0.01 fx = 5 px
+                      cameraYaml("image_width: 640\nimage_height: 480\n",
+                                 "   rows: 3\n   cols: 3\n   dt: d\n"
+                                 "   data: [ 500., 5.5, 320., 0., 500., 240., 0., 0., 1. ]\n"),
+                      "camera_matrix: skew (K[0][1]) 5.5 px is not plausible"},
         BadCameraCase{"nan_focal",
                       cameraYaml("image_width: 640\nimage_height: 480\n",
                                  "   rows: 3\n   cols: 3\n   dt: d\n"

@@ -85,6 +85,20 @@ TEST(MapPly, ReadsBackWhatItWrites) {
   EXPECT_TRUE(readMapPly(dir.file("empty.ply")).empty());
 }
 
+// A diverged point far away prints hundreds of digits: its line is written whole, not cut.
+TEST(MapPly, FarPointIsWrittenWhole) {
+  test::TempDir dir;
+  std::vector<MapPoint> points = threePoints();
+  points[0].p_world = Vec3(1e300, -1e300, 2.0);
+  writeMapPly(dir.file("map.ply"), points);
+  const auto read = readMapPly(dir.file("map.ply"));
+  ASSERT_EQ(read.size(), points.size());
+  EXPECT_EQ(read[0].p_world.x(), 1e300);
+  EXPECT_EQ(read[0].p_world.y(), -1e300);
+  EXPECT_EQ(read[0].id, points[0].id);
+  EXPECT_EQ(read[1].id, points[1].id);
+}
+
 TEST(MapPly, UnwritableOutputIsAnInputError) {
   test::TempDir dir;
   EXPECT_THROW(writeMapPly(dir.file("missing/map.ply"), {}), InputError);
@@ -228,6 +242,16 @@ INSTANTIATE_TEST_SUITE_P(
         BadPly{"HugeCount", "ply\nformat binary_little_endian 1.0\nelement vertex 99999999999999\n"
                             "property float x\nproperty float y\nproperty float z\nend_header\n",
                ": ", "ends before vertex 0"},
+        // Found by the reliability probe: both read garbage or ignored data, silently.
+        BadPly{"MoreVerticesThanDeclared", kHead + "1 2 3\n4 5 6\n7 8 9\n", ":10: ", "data beyond the 2 vertices"},
+        BadPly{"BinaryHeaderOverText",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+               "property float z\nend_header\n1.5 2 3\n4 5 6.25\n",
+               ": ", "the header says binary_little_endian but the data is text"},
+        BadPly{"BinaryMoreThanDeclared",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty uchar x\nproperty uchar y\n"
+               "property uchar z\nend_header\n\x01\x02\x03\x04\x05\x06",
+               ": ", "data beyond the 1 vertices"},
         BadPly{"IdOutOfRange",
                "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
                "property double id\nend_header\n0 0 0 1e12\n",

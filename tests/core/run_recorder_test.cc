@@ -116,6 +116,30 @@ TEST(RunRecorder, RecordsTrackedLostAndUndecodableFrames) {
   EXPECT_DOUBLE_EQ(ms["p99"].get<double>(), 5.0);
 }
 
+// A row is never cut at a buffer's size: a frame at 1e300 s keeps its own row, whole.
+TEST(RunRecorder, RowsOfAHugeTimestampAreWhole) {
+  test::TempDir dir;
+  {
+    RunRecorder recorder(dir.path(), "cslam");
+    Frame frame = frameAt(0);
+    frame.timestamp = 1e300;
+    recorder.record(frame, tracked("board", SE3(), 54, 54), 5.0, 2.5, 1.5);
+    recorder.record(frameAt(1), lost("board not found"), 1.0, 0.5, 1.25);
+  }
+  const auto rows = readLines(dir.file("frames.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  const auto row0 = splitCsv(rows[1]);
+  ASSERT_EQ(row0.size(), 8u) << rows[1];
+  EXPECT_EQ(std::stod(row0[1]), 1e300);
+  EXPECT_EQ(row0[7], "54");
+  EXPECT_EQ(splitCsv(rows[2])[2], "lost");
+  const auto poses = readLines(dir.file("trajectory.txt"));
+  ASSERT_EQ(poses.size(), 2u);  // the header and the one pose
+  std::vector<double> v;
+  ASSERT_TRUE(parseNumbers(poses[1], &v)) << poses[1];
+  EXPECT_EQ(v.size(), 8u) << poses[1];
+}
+
 // Initialising rows wait for the next frame that is not; its late poses fill them in, in order.
 TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
   test::TempDir dir;

@@ -264,7 +264,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadRgbList{"decreasing_timestamp", "1.0 a.png\n2.0 b.png\n1.5 c.png\n", "rgb.txt:3"},
         BadRgbList{"extra_fields", "1.0 a.png\n2.0 b.png depth/b.png\n", "rgb.txt:2"},
         BadRgbList{"missing_path", "1.0 a.png\n2.0\n", "rgb.txt:2"},
-        BadRgbList{"empty_list", "# timestamp filename\n\n", "rgb.txt"}),
+        BadRgbList{"empty_list", "# timestamp filename\n\n", "rgb.txt"},
+        BadRgbList{"huge_timestamp", "1.0 a.png\n2e300 b.png\n", "rgb.txt:2"},
+        BadRgbList{"nanosecond_timestamp", "1403715572212143183 a.png\n", "rgb.txt:1"}),
     [](const auto& info) { return info.param.name; });
 
 TEST(Sequence, RateIsTheMedianSpacingOfTheTimestamps) {

@@ -199,7 +199,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadTrajectory{"kitti_more_times", "kitti.txt", std::string(kKittiLine) + kKittiLine,
                       "times.txt", "0.0\n0.1\n0.2\n"},
         BadTrajectory{"kitti_times_going_back", "kitti.txt",
-                      std::string(kKittiLine) + kKittiLine, "times.txt:2", "0.2\n0.1\n"}),
+                      std::string(kKittiLine) + kKittiLine, "times.txt:2", "0.2\n0.1\n"},
+        BadTrajectory{"huge_timestamp", "traj.txt", "1.0 0 0 0 0 0 0 1\n2e300 0 0 0 0 0 0 1\n", "traj.txt:2", ""},
+        BadTrajectory{"huge_negative_timestamp", "traj.txt", "-2e300 0 0 0 0 0 0 1\n", "traj.txt:1", ""},
+        BadTrajectory{"euroc_huge_timestamp", "gt.csv", "100,0,0,0,1,0,0,0\n1e30,0,0,0,1,0,0,0\n", "gt.csv:2", ""},
+        BadTrajectory{"kitti_huge_time", "kitti.txt", std::string(kKittiLine) + kKittiLine, "times.txt:2",
+                      "0.0\n1e300\n"}),
     [](const auto& info) { return info.param.name; });
 
 // Published ground truth repeats a timestamp now and then (TUM fr2_desk, evo's V1_02 estimate):
@@ -215,6 +220,33 @@ TEST(Trajectory, RepeatedTimestampsAreKeptInOrder) {
   EXPECT_EQ(t[2].timestamp, 2.0);
   EXPECT_EQ(t[1].T_world_camera.t().x(), 0.0);
   EXPECT_EQ(t[2].T_world_camera.t().x(), 1.0);
+}
+
+// Seconds since 1970 are about 1.7e9; nanoseconds (EuRoC's unit) in a TUM file are refused, saying so.
+TEST(Trajectory, NanosecondsInATumFileAreRefusedSayingSo) {
+  test::TempDir dir;
+  const std::string path = dir.file("traj.txt");
+  test::writeText(path, "1403715572212143183 0 0 0 0 0 0 1\n");
+  try {
+    readTrajectory(path);
+    FAIL() << "accepted nanoseconds as seconds";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path + ":1: timestamp 1.40372e+18 is not plausible as seconds"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("looks like nanoseconds (1.40372e+09 s)"), std::string::npos) << message;
+  }
+}
+
+// A line is never cut at a buffer's size, however many digits a value prints with.
+TEST(Trajectory, TumLineOfAHugeTimestampIsWhole) {
+  const std::string line = formatTumLine({1e300, SE3(Quat(0.5, 0.5, 0.5, 0.5), Vec3(1, 2, 3))});
+  EXPECT_GT(line.size(), 300u);
+  std::vector<double> v;
+  ASSERT_TRUE(parseNumbers(line, &v)) << line;
+  ASSERT_EQ(v.size(), 8u) << line;
+  EXPECT_EQ(v[0], 1e300);
+  EXPECT_EQ(v[7], 0.5);  // qw, the last field
 }
 
 TEST(Trajectory, WriteTumThenReadRoundTrip) {

@@ -1,0 +1,178 @@
+// What `run` and `compare` leave and say when a run is not quite right (cases found by the
+// reliability probe).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "tests/test_util.h"
+
+namespace fs = std::filesystem;
+
+namespace slamcmp {
+namespace {
+
+using test::TempDir;
+using test::writeText;
+
+int lineCount(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// tv1's first `frames` frames rendered into tmp/`name`.
+std::string renderTv1(const TempDir& tmp, int frames, const std::string& name = "tv1") {
+  const auto r = test::runSlamcmp("synth --preset tv1 --frames " + std::to_string(frames) +
+                                  " --supersample 1 --out " + tmp.file(name));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return tmp.file(name);
+}
+
+// A run that fails midway (an image of another size at frame 5) into the folder of a finished run:
+// the earlier run's summary.json and map.ply must not stay beside the new run's partial files.
+TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  const std::string out = tmp.file("out");
+  const auto first = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  ASSERT_TRUE(fs::exists(out + "/summary.json"));
+  ASSERT_TRUE(fs::exists(out + "/map.ply"));
+  writeText(out + "/notes.txt", "the user's own file\n");
+
+  ASSERT_TRUE(cv::imwrite(seq + "/rgb/000005.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(128))));
+  const auto rerun = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  EXPECT_EQ(rerun.exit_code, 2) << rerun.err;
+  EXPECT_NE(rerun.err.find("000005.png: image is 80x60"), std::string::npos) << rerun.err;
+  EXPECT_FALSE(fs::exists(out + "/summary.json"));
+  EXPECT_FALSE(fs::exists(out + "/map.ply"));
+  EXPECT_EQ(test::readLines(out + "/frames.csv").size(), 6u);  // the header and frames 0 to 4
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));                  // only the run's own outputs go
+}
+
+// One undecodable image in a sequence does not end the run: its frame is lost, and the file is
+// named once on stderr however often the list plays it.
+TEST(RunOutputs, AnUndecodableImageMidSequenceIsWarnedOnce) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  writeText(seq + "/rgb/000004.png", "not a PNG");
+  std::ofstream(seq + "/rgb.txt", std::ios::app) << "100.0 rgb/000004.png\n";  // played again, last
+  const std::string out = tmp.file("out");
+  const auto r = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(seq + "/rgb/000004.png: warning: cannot be decoded as an image", 0), 0u) << r.err;
+  const auto rows = test::readLines(out + "/frames.csv");
+  ASSERT_EQ(rows.size(), 12u);
+  EXPECT_EQ(rows[5].rfind("4,", 0), 0u);
+  EXPECT_NE(rows[5].find(",lost,"), std::string::npos) << rows[5];
+  EXPECT_NE(rows[11].find(",lost,"), std::string::npos) << rows[11];
+}
+
+// Ground truth the run cannot be scored against (its clock 1000 s off): the run is fine (exit 0),
+// and one line names groundtruth.txt and why, as summary.json's metrics_error does.
+TEST(RunOutputs, GroundTruthThatCannotScoreTheRunIsWarnedAbout) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 10);
+  std::string shifted;
+  for (const std::string& line : test::readLines(seq + "/groundtruth.txt")) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto space = line.find(' ');
+    shifted += std::to_string(std::stod(line.substr(0, space)) + 1000.0) + line.substr(space) + "\n";
+  }
+  writeText(seq + "/groundtruth.txt", shifted);
+  const std::string out = tmp.file("out");
+  const auto r = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(seq + "/groundtruth.txt: warning: the run cannot be scored against it: no time overlap", 0),
+            0u)
+      << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(readFile(out + "/summary.json"));
+  EXPECT_NE(summary.value("metrics_error", "").find("no time overlap"), std::string::npos) << summary.dump();
+}
+
+// A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
+std::string compareTv1(const TempDir& tmp) {
+  const std::string seq = renderTv1(tmp, 10, "good");
+  const auto r = test::runSlamcmp("compare --jobs 1 --sequence " + seq + " --backends cslam --out " + tmp.file("c"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return tmp.file("c/runs/good-cslam");
+}
+
+// The error results.csv gives the run of `dir` after compare --collect of it.
+std::string collectedError(const std::string& dir) {
+  test::runSlamcmp("compare --collect " + dir);
+  const std::string results = readFile(dir + "/results.csv");
+  const auto at = results.find("runs/good-cslam,");
+  return at == std::string::npos ? "" : results.substr(at, results.find('\n', at) - at);
+}
+
+// --collect does not take the files of two runs (an earlier run's summary.json beside a rerun's
+// frames.csv cut short) for one.
+TEST(RunOutputs, CollectRefusesARunWhoseFilesDisagree) {
+  TempDir tmp;
+  const std::string run = compareTv1(tmp);
+  const std::vector<std::string> rows = test::readLines(run + "/frames.csv");
+  std::string fewer;
+  for (size_t i = 0; i + 3 < rows.size(); ++i) fewer += rows[i] + "\n";
+  writeText(run + "/frames.csv", fewer);
+  const std::string error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/frames.csv: has 7 rows but summary.json says 10 frames"), std::string::npos) << error;
+}
+
+// --collect checks what it reads of summary.json: a negative count or a word for a number is
+// refused naming the file and the field, not drawn or left as an empty cell.
+TEST(RunOutputs, CollectRefusesAMalformedSummary) {
+  TempDir tmp;
+  const std::string run = compareTv1(tmp);
+  nlohmann::json summary = nlohmann::json::parse(readFile(run + "/summary.json"));
+  summary["tracked"] = -5;
+  writeText(run + "/summary.json", summary.dump());
+  std::string error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/summary.json: tracked: must be a whole number from 0 to 10, got -5"), std::string::npos)
+      << error;
+  summary["tracked"] = 10;
+  summary["ms_per_frame"]["median"] = "fast";
+  writeText(run + "/summary.json", summary.dump());
+  error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(run + "/summary.json: ms_per_frame.median: must be a number of milliseconds, got \"\"fast\"\""),
+            std::string::npos)
+      << error;
+}
+
+// A compare where a run failed says so, a line for each, and exits 2, as --collect of it does.
+TEST(RunOutputs, CompareAndCollectSayWhichRunsFailed) {
+  TempDir tmp;
+  const std::string good = renderTv1(tmp, 10, "good");
+  const std::string bad = renderTv1(tmp, 10, "bad");
+  ASSERT_TRUE(cv::imwrite(bad + "/rgb/000003.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(128))));
+  const std::string dir = tmp.file("c");
+  const auto r = test::runSlamcmp("compare --jobs 1 --sequence " + good + " --sequence " + bad +
+                                  " --backends cslam --out " + dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.out.find("report: "), std::string::npos) << r.out;
+  ASSERT_EQ(lineCount(r.err), 2) << r.err;
+  EXPECT_EQ(r.err.rfind("slamcmp: " + dir + "/runs/bad-cslam: failed: " + bad + "/rgb/000003.png: image is 80x60", 0),
+            0u)
+      << r.err;
+  EXPECT_NE(r.err.find("1 run(s) failed"), std::string::npos) << r.err;
+
+  const auto collected = test::runSlamcmp("compare --collect " + dir);
+  EXPECT_EQ(collected.exit_code, 2) << collected.err;
+  EXPECT_EQ(collected.err, r.err);
+}
+
+}  // namespace
+}  // namespace slamcmp
