@@ -194,6 +194,19 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
   return out;
 }
 
+StampedPose readSingleTumPose(const std::string& path) {
+  const Trajectory poses = readTrajectory(path, TrajectoryFormat::Tum);
+  if (poses.size() > 1) {
+    int data_lines = 0;
+    forEachDataLine(path, [&](const std::vector<double>&, int n) {
+      if (++data_lines == 2)
+        throw InputError(atLine(path, n), "a second pose: the file must hold only the first camera's (it holds " +
+                                              std::to_string(poses.size()) + ")");
+    });
+  }
+  return poses.front();
+}
+
 std::string formatTumLine(const StampedPose& p) {
   const Quat q = p.T_world_camera.quat();
   const Vec3& t = p.T_world_camera.t();

@@ -24,6 +24,9 @@ enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
 // (checkPlausibleSeconds), or a file without a single pose.
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto,
                           const std::string& kitti_times_path = "");
+// The pose of a TUM file that must hold exactly one (--init manual:FILE): InputError as
+// readTrajectory's, or naming the line of a second pose (rather than use the first silently).
+StampedPose readSingleTumPose(const std::string& path);
 TrajectoryFormat parseTrajectoryFormat(const std::string& name);  // "auto", "tum", "euroc", "kitti"
 // What Auto reads `path` as (Tum, Euroc or Kitti); InputError as readTrajectory's.
 TrajectoryFormat detectTrajectoryFormat(const std::string& path);

@@ -45,7 +45,7 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
     const std::string file = init.substr(7);
     if (file.empty()) throw InputError("--init", "manual:FILE needs a file (a TUM pose line)");
     context->init = InitSource::Manual;
-    context->T_world_camera_init = readTrajectory(file, TrajectoryFormat::Tum).front().T_world_camera;
+    context->T_world_camera_init = readSingleTumPose(file).T_world_camera;
   } else {
     throw InputError("--init", "must be board, groundtruth, manual:FILE or none, got '" + init + "'");
   }

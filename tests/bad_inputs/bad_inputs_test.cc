@@ -468,6 +468,13 @@ std::vector<BadCase> cases() {
       runCase(
           "InitManualFileMalformed", [](const std::string& seq) { writeText(seq + "/pose.txt", "0 1 2\n"); },
           {"seq/pose.txt:1", "fields"}, "--backend monoslam --init manual:{seq}/pose.txt"),
+      // Found by the reliability probe: the poses after the first were ignored silently.
+      runCase(
+          "InitManualFileTwoPoses",
+          [](const std::string& seq) {
+            writeText(seq + "/pose.txt", "# first camera\n0.0 0 0 -1 0 0 0 1\n\n0.1 0.01 0 -1 0 0 0 1\n");
+          },
+          {"seq/pose.txt:4", "a second pose", "(it holds 2)"}, "--backend monoslam --init manual:{seq}/pose.txt"),
       // Back-end options through the registry.
       runCase(
           "InitRefusedByABackEndWithoutIt", [](const std::string&) {}, {"--init", "cslam takes no --init"},
