@@ -1,6 +1,8 @@
 #include "eval/app/cli.h"
 
 #include <exception>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "eval/app/commands.h"
@@ -8,6 +10,21 @@
 #include "eval/app/run_sequence.h"
 
 namespace slamcmp {
+
+namespace {
+
+// CLI11 answers a misspelt subcommand with "A subcommand is required": name the word it did not
+// take and the subcommands there are. "" when the parse failed for another reason.
+std::string unknownSubcommand(const CLI::App& app) {
+  const std::vector<std::string> words = app.remaining();
+  if (!app.get_subcommands().empty() || words.empty() || words.front().rfind('-', 0) == 0) return "";
+  std::string known;
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; }))
+    known += (known.empty() ? "" : ", ") + command->get_name();
+  return "unknown subcommand '" + words.front() + "' (known: " + known + ")";
+}
+
+}  // namespace
 
 void addCommands(CLI::App& app) {
   app.require_subcommand(1);
@@ -30,7 +47,8 @@ int runCommandLine(CLI::App& app, int argc, const char* const* argv, std::ostrea
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e, out, err);
   } catch (const CLI::ParseError& e) {
-    err << "slamcmp: " << e.what() << " (see slamcmp --help)\n";
+    const std::string unknown = unknownSubcommand(app);
+    err << "slamcmp: " << (unknown.empty() ? e.what() : unknown) << " (see slamcmp --help)\n";
     return 2;
   } catch (const Interrupted& e) {
     err << "slamcmp: " << e.what() << "\n";

@@ -33,6 +33,12 @@ TEST(Cli, HelpListsSubcommands) {
 
 TEST(Cli, NoSubcommandIsUsageError) { expectBadInput("", "subcommand"); }
 
+// Found by the reliability probe: a misspelt subcommand got "A subcommand is required", not naming it.
+TEST(Cli, UnknownSubcommandIsNamedWithTheKnownOnes) {
+  expectBadInput("frobnicate --out x",
+                 "unknown subcommand 'frobnicate' (known: synth, run, compare, reproduce, eval, calibrate)");
+}
+
 TEST(Cli, UnknownOptionIsUsageError) { expectBadInput("run --backend cslam --sequence x --frobnicate 3", "frobnicate"); }
 
 TEST(Cli, RunOnMissingSequence) {
