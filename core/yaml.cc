@@ -131,7 +131,7 @@ YamlProblem yamlSyntaxProblem(std::string text) {
 
 }  // namespace
 
-YamlFile::YamlFile(const std::string& path) : path_(path) {
+YamlFile::YamlFile(const std::string& path, Header header) : path_(path) {
   // A symbolic link loop or a folder without permission: say so, rather than "missing".
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
@@ -149,8 +149,13 @@ YamlFile::YamlFile(const std::string& path) : path_(path) {
     if (!problem.where.empty()) throw InputError(path + ": " + problem.where, problem.what);
     throw InputError(path, "is not valid YAML: " + problem.what);
   }
+  const bool add_header = header == Header::Optional && first.rfind("%YAML", 0) != 0;
   try {
-    fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
+    if (add_header)
+      fs_.open("%YAML:1.0\n---\n" + text.str(),
+               cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+    else
+      fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     // OpenCV's message spans several lines; keep its last meaningful part.
     std::string msg = e.err.empty() ? e.what() : e.err;

@@ -9,7 +9,11 @@ namespace slamcmp {
 
 class YamlFile {
  public:
-  explicit YamlFile(const std::string& path);  // throws InputError: missing, unreadable, malformed
+  // Required: OpenCV's own files (camera.yaml, --config), which must start "%YAML:1.0". Optional:
+  // plain YAML without it (a synthetic sequence's info.yaml), read as if it had it.
+  enum class Header { Required, Optional };
+  // Throws InputError: missing, unreadable, malformed.
+  explicit YamlFile(const std::string& path, Header header = Header::Required);
 
   const std::string& path() const { return path_; }
   bool has(const std::string& key) const;

@@ -13,6 +13,7 @@
 #include "core/progress.h"
 #include "core/target.h"
 #include "core/trajectory.h"
+#include "core/yaml.h"
 #include "datasets/room_scene.h"
 #include "datasets/scene_renderer.h"
 #include "datasets/scene_yaml.h"
@@ -50,20 +51,10 @@ std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir) {
   const fs::path info = fs::path(sequence_dir) / "info.yaml";
   std::error_code ec;
   if (!fs::is_regular_file(info, ec)) return std::nullopt;
-  // info.yaml is YAML without OpenCV's "%YAML:1.0" first line (a comment says what it is): read
-  // from memory with the line added.
-  std::ifstream in(info);
-  std::stringstream text;
-  text << "%YAML:1.0\n---\n" << in.rdbuf();
-  cv::FileStorage fs;
-  try {
-    fs.open(text.str(), cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& e) {
-    throw InputError(info.string(), "is not YAML: " + e.msg);
-  }
-  if (!fs.isOpened()) throw InputError(info.string(), "cannot be read");
+  // info.yaml is YAML without OpenCV's "%YAML:1.0" first line (a comment says what it is).
+  const YamlFile yaml(info.string(), YamlFile::Header::Optional);
   SynthOptions options;
-  readOptions(fs.root(), info.string(), options);
+  readOptions(yaml.root(), info.string(), options);
   try {
     options.check();
   } catch (const InputError& e) {

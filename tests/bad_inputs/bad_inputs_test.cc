@@ -710,6 +710,24 @@ std::vector<BadCase> cases() {
          return Invocation{"compare --sequence " + tmp.file("seq") + " --out " + tmp.file("c") + " --max-frames 0",
                            {"--max-frames 0: nothing to run"}};
        }},
+      // Found by the reliability probe: compare --trials reads info.yaml, whose errors were two lines
+      // of OpenCV's text; it is read as every other YAML file is (core/yaml.h).
+      {"CompareTrialsInfoYamlMalformed",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         writeText(tmp.file("seq/info.yaml"), "# slamcmp synth\npreset: [\n");
+         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends cslam --trials 2 --out " +
+                               tmp.file("c"),
+                           {tmp.file("seq/info.yaml"), "is not valid YAML", "at line 3"}};
+       }},
+      {"CompareTrialsInfoYamlKeyTwice",
+       [](const TempDir& tmp) {
+         writeSequence(tmp.file("seq"));
+         writeText(tmp.file("seq/info.yaml"), "preset: \"tv1\"\nseed: 1\nseed: 2\n");
+         return Invocation{"compare --sequence " + tmp.file("seq") + " --backends cslam --trials 2 --out " +
+                               tmp.file("c"),
+                           {tmp.file("seq/info.yaml") + ": seed: written twice in one mapping (lines 2 and 3)"}};
+       }},
       // compare --config: a value its back-end refuses; a file for none of the back-ends compared.
       compareConfigCase("CompareConfigValueRefused", "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",
                         "hybrid", "hybrid.corners.pixel_sigma: must be positive"),
