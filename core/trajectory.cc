@@ -3,7 +3,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <system_error>
 #include <utility>
 
 #include "core/error.h"
@@ -62,11 +64,20 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+// A folder opens as an empty stream, which would "hold no pose": say what it is, as the YAML
+// readers do.
+std::ifstream openTextFile(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a text file");
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  return in;
+}
+
 // Reads data lines as numbers; calls f(numbers, line_number) for each.
 template <class F>
 void forEachDataLine(const std::string& path, F&& f) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::ifstream in = openTextFile(path);
   std::string line;
   std::vector<double> v;
   int line_number = 0;
@@ -111,8 +122,7 @@ std::vector<double> readKittiTimes(const std::string& path) {
 
 TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
   if (lowerExtension(path) == "csv") return TrajectoryFormat::Euroc;
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::ifstream in = openTextFile(path);
   std::string line;
   std::vector<double> v;
   int n = 0;

@@ -406,6 +406,14 @@ std::vector<BadCase> cases() {
                 writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n0.1 0 0\n");
               },
               {"seq/groundtruth.txt:2", "fields"}),
+      // Found by the reliability probe: a folder was said to hold no pose (camera.yaml's reader says
+      // what it is).
+      runCase("GroundTruthIsAFolder",
+              [](const std::string& seq) {
+                std::filesystem::remove(seq + "/groundtruth.txt");
+                std::filesystem::create_directory(seq + "/groundtruth.txt");
+              },
+              {"seq/groundtruth.txt: is a folder"}),
       runCase("GroundTruthTimestampHuge",
               [](const std::string& seq) {
                 writeText(seq + "/groundtruth.txt", "0.0 0 0 -1 0 0 0 1\n1e300 0 0 -1 0 0 0 1\n");
@@ -513,6 +521,21 @@ std::vector<BadCase> cases() {
        }},
       evalCase("EvalEstimateMissing", "absent.txt", "", ""),
       evalCase("EvalEstimateEmpty", "est.txt", "", ": holds no pose"),
+      // TUM or KITTI (the format is detected from the first line) and EuRoC (from .csv).
+      {"EvalEstimateIsAFolder",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("gt.txt"), kGroundTruth);
+         std::filesystem::create_directory(tmp.file("est.txt"));
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt"),
+                           {tmp.file("est.txt") + ": is a folder"}};
+       }},
+      {"EvalEurocEstimateIsAFolder",
+       [](const TempDir& tmp) {
+         writeText(tmp.file("gt.txt"), kGroundTruth);
+         std::filesystem::create_directory(tmp.file("est.csv"));
+         return Invocation{"eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.csv"),
+                           {tmp.file("est.csv") + ": is a folder"}};
+       }},
       evalCase("TumTruncatedLine", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 0 0 0 0 0 1\n0.2 0 0 0",
                ":3: has 4 fields"),
       evalCase("TumNotNumber", "est.txt", "0.0 0 0 0 0 0 0 1\n0.1 0 zero 0 0 0 0 1\n",
