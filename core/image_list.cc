@@ -77,7 +77,8 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
   int n = 0;
   while (std::getline(in, line)) {
     ++n;
-    if (layout.stop_on_interrupt && interruptRequested()) throw InputError(atLine(list, n), "interrupted while the list was being read");
+    if (layout.stop_on_interrupt && interruptRequested())
+      throw Interrupted(atLine(list, n) + ": interrupted while the list was being read");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     // A byte-order mark (a list saved by Windows Notepad as "UTF-8"): not part of the first field.
     if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);

@@ -20,7 +20,7 @@ struct ImageListLayout {
   char separator;                   // between the two fields: ' ' (any run of blanks) or ','
   double units_per_second;          // of the timestamps: 1 (seconds) or 1e9 (nanoseconds)
   std::filesystem::path image_dir;  // the file names are relative to it
-  bool stop_on_interrupt = true;    // an interrupt ends the reading (InputError saying so)
+  bool stop_on_interrupt = true;    // an interrupt ends the reading (Interrupted saying so)
 };
 
 // Every frame of a list: blank lines and '#' comments skipped, timestamps strictly increasing, each

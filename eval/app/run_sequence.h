@@ -3,11 +3,12 @@
 // Shared by `slamcmp run`, `compare` and `reproduce`.
 #include <functional>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "core/interrupt.h"  // Interrupted
 
 namespace slamcmp {
 
@@ -36,14 +37,6 @@ nlohmann::json runSequence(const RunRequest& request);
 // Ctrl-C stops runs at the next frame instead of killing the process.
 void installInterruptHandler();
 bool interrupted();
-
-// A command stopped by Ctrl-C, SIGTERM or SIGHUP once it wrote what it had (a run's outputs marked
-// "interrupted", a compare's report marking the runs not finished): main exits 130, as a shell
-// reports a command stopped by Ctrl-C, so that a script does not take it for a finished one.
-class Interrupted : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // runs/<sequence>-<backend>[-<mode>]
 std::string defaultRunDir(const std::string& sequence_name, const std::string& backend,
