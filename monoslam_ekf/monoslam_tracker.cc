@@ -169,10 +169,14 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
 
 void MonoslamTracker::started(double timestamp) {
   restart_view_.reset();
-  diverged_ = false;
   trusted_id_limit_ = slam_.nextFeatureId();  // the start's features (board corners) included
-  running_ = true;
   ever_started_ = true;
+  resumed(timestamp);
+}
+
+void MonoslamTracker::resumed(double timestamp) {
+  running_ = true;
+  diverged_ = false;
   reporting_.reset();
   frames_unmeasured_ = 0;
   last_timestamp_ = timestamp;
@@ -198,11 +202,7 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
       Vec4::Constant(ro.orientation_sigma * ro.orientation_sigma);
   slam_.relocate(*T_world_camera, P, trusted_id_limit_);
   unknown_first_motion_ = true;
-  running_ = true;
-  diverged_ = false;
-  reporting_.reset();
-  frames_unmeasured_ = 0;
-  last_timestamp_ = frame.timestamp;
+  resumed(frame.timestamp);
   result->reason = "relocalised against the map (" + std::to_string(inliers) + " points agree)";
   return true;
 }

@@ -33,6 +33,8 @@ class MonoslamTracker : public Tracker {
   bool start(const Frame& frame, std::string* reason);
   bool startWithoutMap(const Frame& frame, std::string* reason);  // --init none
   void started(double timestamp);  // the filter runs from this frame on
+  // The filter runs again from this frame (a start, a relocalisation): the run's counters afresh.
+  void resumed(double timestamp);
   // --init none: the velocity prior (StartOptions::board_free_*) once the first interval dt is known.
   void setFirstMotionPrior(double dt);
   std::string divergence() const;  // why the filter cannot be trusted, "" if it can

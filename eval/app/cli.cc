@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "eval/app/commands.h"
 #include "eval/app/compare.h"
-#include "eval/app/run_sequence.h"
 
 namespace slamcmp {
 

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iostream>
 
+#include "core/interrupt.h"
 #include "datasets/camera_motion.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/commands.h"

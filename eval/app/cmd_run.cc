@@ -1,6 +1,7 @@
 #include <iostream>
 #include <limits>
 
+#include "core/interrupt.h"
 #include "eval/app/commands.h"
 #include "eval/app/run_sequence.h"
 #include "eval/app/backends.h"

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "eval/app/backends.h"
 #include "eval/app/compare_plan.h"
 #include "eval/app/job_runner.h"

@@ -3,11 +3,9 @@
 // several sequences, several trials each. A compare is a plan of runs (compare_plan.h), the runs
 // (each one `slamcmp run` process: job_runner.h, GNU parallel or Slurm) and the report collected
 // from their folders (eval/report/compare_collect.h); locally the three follow each other.
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "eval/app/run_sequence.h"
 #include "eval/report/compare_report.h"
 
 namespace slamcmp {

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/yaml.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/backends.h"

@@ -8,8 +8,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/interrupt.h"  // Interrupted
-
 namespace slamcmp {
 
 struct RunRequest {
