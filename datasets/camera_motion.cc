@@ -77,6 +77,10 @@ const std::vector<MotionPreset>& motionPresets() {
        "moves right, then up, facing the wall: up to half the board leaves the image by its left, then bottom, edge"},
       {"roll_distortion", 200,
        "rolls up to 110 degrees each way, the board always in view, through a strongly distorting lens"},
+      {"handheld_rpy", 250,
+       "rolls, tilts, then pans (up to 80 degrees/s) about a point 11 cm behind and below the camera, "
+       "1.1 m from the board wall, as tum_fr1_rpy's hand-held Kinect",
+       30.0},
   };
   return presets;
 }
@@ -159,6 +163,24 @@ SE3 CameraMotion::nominal(double t) const {
     const Vec3 p = c + Vec3(0.38 * right + 0.02 * std::sin(kTwoPi * t / 5.0), -0.28 * up,
                             -0.70 + 0.03 * std::sin(kTwoPi * t / 7.0));
     return lookAt(p, p + Vec3(0.04 * u, 0.0, 1.0));
+  }
+  if (preset_ == "handheld_rpy") {
+    // An 8.4 s cycle: 2.8 s rolling (15 degrees, 0.7 Hz), 2.8 s tilting (18 degrees, 0.6 Hz), 2.8 s
+    // panning (25 degrees, 0.4 Hz), each faded in and out, about a pivot the camera is held 8 cm in
+    // front of and 8 cm above (tum_fr1_rpy's ground truth: 7.8 and 8.3 cm), the pivot swaying 1.5 cm.
+    const double s = t - 8.4 * std::floor(t / 8.4);
+    const double deg = M_PI / 180.0;
+    auto phase = [s](double start, double amplitude, double frequency) {
+      const double u = s - start;
+      if (u <= 0 || u >= 2.8) return 0.0;
+      return amplitude * std::sin(kTwoPi * frequency * u) * smoothstep(u / 0.5) * smoothstep((2.8 - u) / 0.5);
+    };
+    const double roll = phase(0.0, 15 * deg, 0.7), tilt = phase(2.8, 18 * deg, 0.6), pan = phase(5.6, 25 * deg, 0.4);
+    const Vec3 pivot = c + Vec3(0.015 * std::sin(kTwoPi * t / 5.0), 0.015 * std::sin(kTwoPi * t / 3.7),
+                                -1.19 + 0.015 * std::sin(kTwoPi * t / 4.3));
+    const Mat3 R_world_camera = lookAt(pivot, c).R() * rotationFromRotvec(Vec3(0, pan, 0)) *
+                                rotationFromRotvec(Vec3(tilt, 0, 0)) * rotationFromRotvec(Vec3(0, 0, roll));
+    return SE3(R_world_camera, pivot + R_world_camera * Vec3(0.0, -0.08, 0.08));
   }
   if (preset_ == "roll_distortion") {
     // Roll of 110 degrees each way (26 s a cycle: at most 2.7 degrees a frame), small lateral and

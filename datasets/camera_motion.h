@@ -2,8 +2,9 @@
 // The synthetic camera and the motions of the presets (SPEC section 7): tv1 along X, tv2 along Y,
 // tv3 along Z, tv4 a rectangle in the XZ plane, board_leaves a pan away from the board and back,
 // wall_turn a turn to another wall for about 11 s, board_partial a sweep that takes up to half the board
-// out of the image, roll_distortion up to 110 degrees of roll through a strongly distorting lens;
-// all with smooth handheld jitter.
+// out of the image, roll_distortion up to 110 degrees of roll through a strongly distorting lens,
+// handheld_rpy a hand-held camera at 30 fps rolling, tilting and panning about a point behind it
+// (as tum_fr1_rpy's); all with smooth handheld jitter.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,7 +14,7 @@
 
 namespace slamcmp {
 
-constexpr double kSyntheticFps = 10.0;  // frames per second of every preset
+constexpr double kSyntheticFps = 10.0;  // frames per second of the presets but handheld_rpy
 
 // 640x480, fx = fy = 525, mild barrel distortion (5 coefficients); the preset roll_distortion's
 // lens has strong barrel distortion instead (k1 = -0.32: a corner of the image 14 % inwards).
@@ -23,6 +24,7 @@ struct MotionPreset {
   std::string name;
   int frames;               // the preset's own length
   std::string description;
+  double fps = kSyntheticFps;
 };
 const std::vector<MotionPreset>& motionPresets();
 // Throws InputError naming the known presets.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <thread>
 
 #include <opencv2/imgproc.hpp>
@@ -50,12 +51,22 @@ SceneRenderer::SceneRenderer(const CameraModel& camera, const Scene& scene, int 
 }
 
 cv::Mat SceneRenderer::radiance(const SE3& T_world_camera) const {
+  return radiance([&T_world_camera](double) { return T_world_camera; }, 0.0, 0.0);
+}
+
+cv::Mat SceneRenderer::radiance(const std::function<SE3(double)>& T_world_camera_at, double t,
+                                double readout) const {
   // One sample's angular width: 1 / (f n) radians.
-  const SceneView view(scene_, T_world_camera, 1.0 / (std::max(camera_.fx, camera_.fy) * samples_));
+  const double footprint = 1.0 / (std::max(camera_.fx, camera_.fy) * samples_);
+  const SceneView still(scene_, T_world_camera_at(t), footprint);
   cv::Mat out(camera_.height, camera_.width, CV_32F);
   const int per_pixel = samples_ * samples_;
   parallelForRows(camera_.height, [&](int begin, int end) {
     for (int v = begin; v < end; ++v) {
+      std::optional<SceneView> row_view;
+      if (readout > 0)
+        row_view.emplace(scene_, T_world_camera_at(t + readout * (v / (camera_.height - 1.0) - 0.5)), footprint);
+      const SceneView& view = row_view ? *row_view : still;
       float* row = out.ptr<float>(v);
       const float* xy = &xy_[2 * static_cast<size_t>(per_pixel) * v * camera_.width];
       for (int u = 0; u < camera_.width; ++u) {
@@ -87,11 +98,11 @@ cv::Mat SceneRenderer::renderFrame(const std::function<SE3(double)>& T_world_cam
     image = cv::Mat::zeros(camera_.height, camera_.width, CV_32F);
     for (int k = 0; k < renders; ++k) {
       const double tk = t + exposure * frame_interval * (static_cast<double>(k) / (renders - 1) - 0.5);
-      image += radiance(T_world_camera_at(tk));
+      image += radiance(T_world_camera_at, tk, effects.rolling_shutter);
     }
     image /= renders;
   } else {
-    image = radiance(T_world_camera);
+    image = radiance(T_world_camera_at, t, effects.rolling_shutter);
   }
   if (effects.lens_blur > 0) {
     // A real lens never images an edge as sharply as the pixel grid: without this blur, sub-pixel

@@ -31,6 +31,8 @@ void SynthOptions::check() const {
   if (!(lens_blur >= 0) || !(lens_blur <= 5)) throw InputError("--lens-blur", "must be in [0, 5] pixels");
   if (!(illumination >= 0) || !(illumination < 1))
     throw InputError("--illumination", "must be in [0, 1)");
+  if (!(rolling_shutter >= 0) || !(rolling_shutter <= 1))
+    throw InputError("--rolling-shutter", "must be in [0, 1] seconds");
   if (supersample < 1 || supersample > 8)
     throw InputError("--supersample", "must be in [1, 8], got " + std::to_string(supersample));
 }
@@ -74,17 +76,18 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   const CameraModel camera = syntheticCamera(options.preset);
   const Scene scene = buildRoomScene(static_cast<std::uint64_t>(options.seed));
   const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
+  const MotionPreset& preset = findMotionPreset(options.preset);
   writeCameraYaml((out / "camera.yaml").string(), camera);
   writeTargetYaml((out / "target.yaml").string(), scene.target);
   writeSceneYaml((out / "scene.yaml").string(), scene);
   std::ostringstream info;
-  info << "# slamcmp synth: a synthetic sequence, " << findMotionPreset(options.preset).description
-       << ", " << kSyntheticFps << " fps\n"
+  info << "# slamcmp synth: a synthetic sequence, " << preset.description << ", " << preset.fps << " fps\n"
        << describeOptions(options);
   writeTextFile(out / "info.yaml", info.str());
 
   const SceneRenderer renderer(camera, scene, options.supersample);
-  const FrameEffects effects{options.lens_blur, options.noise, options.blur, options.illumination};
+  const FrameEffects effects{options.lens_blur, options.noise, options.blur, options.illumination,
+                             options.rolling_shutter};
   const auto pose_at = [&motion](double t) { return motion.T_world_camera(t); };
   const int frames = options.frameCount();
   Trajectory groundtruth;
@@ -92,8 +95,8 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
       "# synthetic sequence: timestamp image (slamcmp synth --preset " + options.preset + ")\n";
   Progress progress("synth " + options.preset, frames);
   for (int i = 0; i < frames; ++i) {
-    const double t = i / kSyntheticFps;
-    const cv::Mat image = renderer.renderFrame(pose_at, t, 1.0 / kSyntheticFps, effects,
+    const double t = i / preset.fps;
+    const cv::Mat image = renderer.renderFrame(pose_at, t, 1.0 / preset.fps, effects,
                                                static_cast<std::uint64_t>(options.seed), i);
     char name[32];
     std::snprintf(name, sizeof name, "rgb/%06d.png", i);

@@ -10,24 +10,27 @@
 namespace slamcmp {
 
 struct SynthOptions {
-  std::string preset = "tv1";  // tv1 | tv2 | tv3 | tv4 | board_leaves
+  std::string preset = "tv1";  // a name in motionPresets()
   int seed = 1;                // textures, jitter and noise; the same seed gives the same images
   int frames = 0;              // 0: the preset's own length; more repeats its motion
   double noise = 0.0;          // Gaussian sensor noise, grey levels (sigma)
   double blur = 0.0;           // motion blur streak at the image centre, pixels
   double lens_blur = 0.7;      // Gaussian point spread of the optics, sigma in pixels
   double illumination = 0.0;   // relative amplitude of a slow change of brightness, e.g. 0.15
+  double rolling_shutter = 0.0;  // seconds from the top row's read to the bottom row's (0: global shutter)
   int supersample = 3;         // anti-aliasing samples per pixel along each axis
 
   template <class V>
   void visit(V& v) {
-    v("preset", preset, "tv1 | tv2 | tv3 | tv4 | board_leaves");
+    v("preset", preset, "the camera motion, a preset of `slamcmp synth --help`");
     v("seed", seed, "textures, jitter and noise; the same seed gives the same images");
     v("frames", frames, "0: the preset's own length; more repeats its motion");
     v("noise", noise, "Gaussian sensor noise, grey levels (sigma)");
     v("blur", blur, "motion blur streak at the image centre, pixels");
     v("lens_blur", lens_blur, "Gaussian point spread of the optics, sigma in pixels");
     v("illumination", illumination, "relative amplitude of a slow brightness change");
+    v("rolling_shutter", rolling_shutter,
+      "seconds from the top row's read to the bottom row's, the middle row at the frame's time (0: global shutter)");
     v("supersample", supersample, "anti-aliasing samples per pixel along each axis");
   }
   void check() const;  // InputError naming the option

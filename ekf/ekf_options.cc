@@ -49,6 +49,8 @@ void ActiveSearchOptions::check() const {
   require(min_variance_factor >= 0 && min_variance_factor <= 1, "min_variance_factor", "must be in [0, 1]");
   require(source_size >= patch_size && source_size % 2 == 1, "source_size",
           "must be odd and at least patch_size, got " + std::to_string(source_size));
+  require(rolling_shutter_readout >= 0 && rolling_shutter_readout <= 1, "rolling_shutter_readout",
+          "must be in [0, 1] seconds");
 }
 
 void ActiveSearchOptions::checkImage(cv::Size image) const {

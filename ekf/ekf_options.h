@@ -73,6 +73,9 @@ struct ActiveSearchOptions {
   // 0: S as assumed.
   double min_variance_factor = 0.1;
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
+  // A rolling shutter's readout, seconds from the top row's read to the bottom row's (0: a global
+  // shutter; ekf/rolling_shutter.h). A hand-held Kinect's (tum_fr1_rpy) is about 0.03.
+  double rolling_shutter_readout = 0.0;
   template <class V>
   void visit(V& v) {
     v("patch_size", patch_size, "pixels, odd");
@@ -90,6 +93,9 @@ struct ActiveSearchOptions {
       "that test with the noise the other matches show (Pope's tau test): the variance factor of their innovations, "
       "at least this, never looser than the test as assumed; 0: the innovations' covariance as assumed");
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
+    v("rolling_shutter_readout", rolling_shutter_readout,
+      "seconds from reading the image's top row to its bottom row, the middle row at the frame's time "
+      "(0: a global shutter); each feature is searched where the camera sees it when its row is read");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // the crops fit in the image

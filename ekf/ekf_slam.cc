@@ -13,6 +13,7 @@
 #include "ekf/inverse_depth.h"
 #include "ekf/measurement_model.h"
 #include "ekf/motion_model.h"
+#include "ekf/rolling_shutter.h"
 
 namespace slamcmp {
 
@@ -197,14 +198,17 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
     return false;
   f.id = next_id_++;
   if (relocaliser_) f.descriptor = relocaliser_->describe(grey, uv);
+  // Its ray from the camera at the frame's time (the state's), not at its row's.
+  const Vec2 uv_frame_time = pixelAtFrameTime(camera_, options_.search.rolling_shutter_readout, state_.w(), uv);
   if (inverse_depth_) {
     const InverseDepthOptions& io = options_.inverse_depth;
     f.inverse_depth = true;
     f.ray_template.release();  // only rays search with the unwarped template
-    f.offset = appendInverseDepthFeature(state_, camera_, uv, options_.search.pixel_sigma, io.rho0, io.rho_sigma);
+    f.offset = appendInverseDepthFeature(state_, camera_, uv_frame_time, options_.search.pixel_sigma, io.rho0,
+                                         io.rho_sigma);
   } else {
     f.is_ray = true;
-    f.offset = appendRay(state_, camera_, uv, options_.search.pixel_sigma);
+    f.offset = appendRay(state_, camera_, uv_frame_time, options_.search.pixel_sigma);
     f.particles = uniformParticles(fo.particles, fo.min_depth, fo.max_depth);
   }
   features_.push_back(std::move(f));

@@ -15,6 +15,7 @@
 #include "ekf/measurement_model.h"
 #include "ekf/one_point_ransac.h"
 #include "ekf/patch_search.h"
+#include "ekf/rolling_shutter.h"
 
 namespace slamcmp {
 
@@ -117,8 +118,11 @@ double jointNis(const Eigen::MatrixXd& S, const std::vector<PointObservation>& o
 
 bool predictFeature(const CameraModel& camera, const Eigen::VectorXd& x, const MapFeature& feature,
                     PointMeasurement* h) {
-  const Vec3 r = x.segment<3>(EkfState::kR);
-  const Vec4 q = x.segment<4>(EkfState::kQ);
+  return predictFeature(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), x, feature, h);
+}
+
+bool predictFeature(const CameraModel& camera, const Vec3& r, const Vec4& q, const Eigen::VectorXd& x,
+                    const MapFeature& feature, PointMeasurement* h) {
   if (feature.is_ray) return false;
   if (feature.inverse_depth) return predictInverseDepthMeasurement(camera, r, q, x.segment<6>(feature.offset), h);
   return predictMeasurement(camera, r, q, x.segment<3>(feature.offset), h);
@@ -174,8 +178,12 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
                       so.patch_size, &templ) ||
         patchStdDev(templ) < so.min_patch_stddev)
       continue;
-    std::vector<PatchMatch> matches = searchEllipses(grey, templ, {{s.uv_predicted, s.S}}, so.sigma_gate, so.min_ncc);
+    // Searched where its row is read; its matches are taken back to the frame's time by that shift.
+    s.rolling_shift = rollingShutterShift(camera, so.rolling_shutter_readout, state.x(), f, s.uv_predicted);
+    const Vec2 uv_search = s.uv_predicted + s.rolling_shift;
+    std::vector<PatchMatch> matches = searchEllipses(grey, templ, {{uv_search, s.S}}, so.sigma_gate, so.min_ncc);
     if (matches.empty()) continue;
+    for (PatchMatch& m : matches) m.uv -= s.rolling_shift;
     best_uv.push_back(matches.front().uv);
     // The candidates nearest the prediction (Mahalanobis): on a chessboard many peaks correlate
     // equally well and the correct one is the most likely, not the best scoring.
@@ -223,7 +231,7 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
   for (size_t k : kept) {
     FeatureSearch& s = out.features[searched_slot[k]];
     s.outcome = SearchOutcome::Matched;
-    s.uv_matched = searched[k].z;
+    s.uv_matched = searched[k].z + s.rolling_shift;
     ++features[s.index].successes;
   }
   out.matched = static_cast<int>(kept.size());

@@ -23,11 +23,12 @@ enum class SearchOutcome {
 
 struct FeatureSearch {
   size_t index = 0;                    // into the feature list
-  Vec2 uv_predicted = Vec2::Zero();    // prior prediction, distorted pixels
+  Vec2 uv_predicted = Vec2::Zero();    // prior prediction at the frame's time, distorted pixels
+  Vec2 rolling_shift = Vec2::Zero();   // where its row's read moves it (rolling_shutter.h): searched at the sum
   Mat2 S = Mat2::Identity();           // its innovation covariance, pixels^2
   double half_axis = 0;                // its search ellipse's half major axis (sigma_gate), pixels
   SearchOutcome outcome = SearchOutcome::Unmeasured;
-  Vec2 uv_matched = Vec2::Zero();      // the measurement, when Matched
+  Vec2 uv_matched = Vec2::Zero();      // the measurement, when Matched (in the image, shift included)
 };
 
 struct FrameMeasurement {
@@ -44,6 +45,9 @@ struct FrameMeasurement {
 // (measurement_model.h) or an inverse-depth feature (inverse_depth.h); false for a ray.
 bool predictFeature(const CameraModel& camera, const Eigen::VectorXd& x, const MapFeature& feature,
                     PointMeasurement* h);
+// The same seen from a camera at (r, q) rather than x's own (a rolling shutter's row: rolling_shutter.h).
+bool predictFeature(const CameraModel& camera, const Vec3& r, const Vec4& q, const Eigen::VectorXd& x,
+                    const MapFeature& feature, PointMeasurement* h);
 // Where the feature is in the world: a point, an inverse-depth feature's x0 + m / rho (far when
 // rho <= 0), a ray at its particles' mean depth.
 Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature);

@@ -2,6 +2,7 @@
 #include <iostream>
 #include <memory>
 
+#include "core/format_string.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/commands.h"
 
@@ -16,8 +17,9 @@ void addSynthCommand(CLI::App& app) {
   auto out_dir = std::make_shared<std::string>();
   std::string presets;
   for (const MotionPreset& p : motionPresets())
-    presets += "\n  " + p.name + ": " + std::to_string(p.frames) + " frames, " + p.description;
-  cmd->add_option("--preset", options->preset, "camera motion (640x480, 10 fps):" + presets)->required();
+    presets += "\n  " + p.name + ": " + std::to_string(p.frames) + " frames" +
+               (p.fps != kSyntheticFps ? " at " + formatString("%g", p.fps) + " fps" : "") + ", " + p.description;
+  cmd->add_option("--preset", options->preset, "camera motion (640x480, 10 fps unless said):" + presets)->required();
   cmd->add_option("--out", *out_dir, "output folder (created; existing files are overwritten)")->check(nonEmptyPath())->required();
   cmd->add_option("--seed", options->seed, "seed of textures, jitter and noise (default 1)");
   cmd->add_option("--frames", options->frames,
@@ -29,6 +31,9 @@ void addSynthCommand(CLI::App& app) {
                   "optics' blur: Gaussian point spread sigma, pixels (default 0.7)");
   cmd->add_option("--illumination", options->illumination,
                   "slow brightness change, relative amplitude, e.g. 0.15 (default 0)");
+  cmd->add_option("--rolling-shutter", options->rolling_shutter,
+                  "seconds from reading the top row to reading the bottom row, the middle row at the frame's "
+                  "time (default 0: a global shutter)");
   cmd->add_option("--supersample", options->supersample,
                   "anti-aliasing samples per pixel along each axis (default 3)");
   cmd->callback([options, out_dir] {

@@ -73,7 +73,7 @@ TEST_F(Rendered, DetectedCornersMatchGroundTruthProjection) {
                                         ? listed->second
                                         : std::vector<int>{0, preset.frames / 5, preset.frames / 2 + 7};
     for (int frame : frames) {
-      const SE3 T = motion.T_world_camera(frame / kSyntheticFps);
+      const SE3 T = motion.T_world_camera(frame / preset.fps);
       const std::vector<double> errors = cornerErrors(render(T), T);
       ASSERT_EQ(errors.size(), 54u) << preset.name << " frame " << frame << ": board not detected";
       EXPECT_LT(rms(errors), 0.1) << preset.name << " frame " << frame;
@@ -144,6 +144,40 @@ TEST_F(Rendered, CornersStayAccurateWithNoiseAndBlur) {
   ASSERT_EQ(errors.size(), 54u);
   EXPECT_LT(rms(errors), 0.15);
   std::printf("noise 2, blur 3 px: rms %.4f px, max %.4f px\n", rms(errors), maxOf(errors));
+}
+
+// A rolling shutter (30 ms readout) on a camera panning 1 rad/s: each corner is where the camera of
+// its row's time projects it (the row found by bisection), not where the frame's camera does.
+TEST_F(Rendered, RollingShutterImagesEachRowFromItsOwnTime) {
+  const Vec3 centre(0.16, 0.10, 0.0);
+  const SE3 T0 = lookAt(centre + Vec3(0.02, -0.03, -0.8), centre);
+  const auto pose_at = [&](double t) { return T0 * SE3::fromRotvec(Vec3(0.2, 1.0, 0.1) * t, Vec3(0.1, 0, 0) * t); };
+  constexpr double kReadout = 0.03;
+  FrameEffects effects;
+  effects.rolling_shutter = kReadout;
+  const cv::Mat image = renderer_->renderFrame(pose_at, 0.0, 1.0 / 30, effects, 1, 0);
+  const ChessboardTarget target = syntheticTarget();
+  std::vector<cv::Point2f> uv;
+  ASSERT_TRUE(detectChessboard(image, target, &uv));
+  const CameraModel& camera = renderer_->camera();
+  const auto row_time = [&](double v) { return kReadout * (v / (camera.height - 1.0) - 0.5); };
+  std::vector<double> to_row_time, to_frame_time;
+  const std::vector<Vec3> corners = target.cornersWorld();
+  for (size_t k = 0; k < corners.size(); ++k) {
+    auto row_gap = [&](double v) { return camera.project(pose_at(row_time(v)).inverse() * corners[k]).y() - v; };
+    double lo = 0, hi = camera.height - 1.0;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (row_gap(lo) * row_gap(mid) <= 0 ? hi : lo) = mid;
+    }
+    const Vec2 detected(uv[k].x, uv[k].y);
+    to_row_time.push_back((camera.project(pose_at(row_time(lo)).inverse() * corners[k]) - detected).norm());
+    to_frame_time.push_back((camera.project(pose_at(0.0).inverse() * corners[k]) - detected).norm());
+  }
+  EXPECT_LT(rms(to_row_time), 0.1);
+  EXPECT_GT(rms(to_frame_time), 1.0);  // 1.7 px: the board spans the middle third of the rows
+  std::printf("rolling shutter: rms %.4f px from the rows' cameras, %.2f px from the frame's\n", rms(to_row_time),
+              rms(to_frame_time));
 }
 
 // SPEC section 2: detected corner 0 is the world origin (next to the black corner square) and
