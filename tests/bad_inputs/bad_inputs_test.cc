@@ -278,6 +278,13 @@ std::vector<BadCase> cases() {
       // rgb.txt lines.
       rgbCase("RgbEmpty", "", ": lists no frames"),
       rgbCase("RgbOnlyComments", "# nothing\n\n   \n", ": lists no frames"),
+      // Found by the reliability probe: a folder was said to list no frames (as ground truth's reader says).
+      runCase("RgbListIsAFolder",
+              [](const std::string& seq) {
+                std::filesystem::remove(seq + "/rgb.txt");
+                std::filesystem::create_directory(seq + "/rgb.txt");
+              },
+              {"seq/rgb.txt: is a folder, not a text file"}),
       rgbCase("RgbMissingPath", "0.0 rgb/0.png\n0.1\n", ":2: expected 'timestamp path'"),
       rgbCase("RgbExtraField", "0.0 rgb/0.png 7\n", ":1: expected 'timestamp path', found more fields"),
       rgbCase("RgbTimestampNotNumber", "zero rgb/0.png\n", ":1: timestamp 'zero' is not a number"),
