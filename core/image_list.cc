@@ -69,8 +69,7 @@ std::vector<std::string> splitFields(const std::string& line, char separator) {
 
 std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageListLayout& layout) {
   const std::string list = list_path.string();
-  std::ifstream in(list);
-  if (!in) throw InputError(list, "cannot be opened (missing or unreadable)");
+  std::ifstream in = openTextFile(list);  // a folder would "list no frames"
   const std::string expected = std::string("expected '") + layout.fields + "'";
   std::vector<ImageEntry> entries;
   std::string line;

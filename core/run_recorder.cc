@@ -93,16 +93,21 @@ void RunRecorder::flush() {
 }
 
 nlohmann::json RunRecorder::summary() const {
-  const Statistics t = computeStatistics(ms_);
+  // No frame timed (a run interrupted before its first): null, not NaN, which JSON has not.
+  const auto timing = [](const std::vector<double>& ms) {
+    const Statistics s = computeStatistics(ms);
+    const auto number = [&s](double v) { return s.count > 0 ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    return nlohmann::json{{"median", number(s.median)}, {"mean", number(s.mean)}, {"p99", number(s.p99)},
+                          {"max", number(s.max)}};
+  };
   nlohmann::json j;
   j["backend"] = backend_;
   j["frames"] = frames_;
   j["tracked"] = tracked();
   j["lost"] = lost_;
   j["first_lost_frame"] = first_lost_frame_ ? nlohmann::json(*first_lost_frame_) : nlohmann::json(nullptr);
-  j["ms_per_frame"] = {{"median", t.median}, {"mean", t.mean}, {"p99", t.p99}, {"max", t.max}};
-  const Statistics c = computeStatistics(cpu_ms_);
-  j["cpu_ms_per_frame"] = {{"median", c.median}, {"mean", c.mean}, {"p99", c.p99}, {"max", c.max}};
+  j["ms_per_frame"] = timing(ms_);
+  j["cpu_ms_per_frame"] = timing(cpu_ms_);
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [stage, calls] : stage_ms_) {
     const Statistics st = computeStatistics(calls);

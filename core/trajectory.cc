@@ -45,6 +45,16 @@ void checkPlausibleSeconds(double seconds, const std::string& where) {
   throw InputError(where, why);
 }
 
+// A folder opens as an empty stream, which would "hold no pose": say what it is, as the YAML
+// readers do.
+std::ifstream openTextFile(const std::string& path) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a text file");
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  return in;
+}
+
 namespace {
 
 bool isCommentOrBlank(const std::string& line) {
@@ -62,16 +72,6 @@ std::string lowerExtension(const std::string& path) {
   std::string ext = path.substr(dot + 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext;
-}
-
-// A folder opens as an empty stream, which would "hold no pose": say what it is, as the YAML
-// readers do.
-std::ifstream openTextFile(const std::string& path) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a text file");
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
-  return in;
 }
 
 // Reads data lines as numbers; calls f(numbers, line_number) for each.

@@ -45,8 +45,9 @@ void addRunCommand(CLI::App& app) {
     if (seed_option->count() > 0) request->seed = *seed;
     const nlohmann::json summary = runSequence(*request);
     std::cout << summary["backend"].get<std::string>() << ": " << summary["tracked"] << "/"
-              << summary["frames"] << " frames tracked, median "
-              << summary["ms_per_frame"]["median"].get<double>() << " ms/frame";
+              << summary["frames"] << " frames tracked";
+    if (summary["ms_per_frame"]["median"].is_number())  // null when interrupted before a frame was timed
+      std::cout << ", median " << summary["ms_per_frame"]["median"].get<double>() << " ms/frame";
     if (summary.contains("ate")) std::cout << ", ATE rmse " << summary["ate"]["trans"]["rmse"] << " m";
     if (summary.contains("scale")) std::cout << " after Sim(3) alignment, scale " << summary["scale"];
     std::cout << "\n";

@@ -208,6 +208,11 @@ Plan makePlan(const CompareOptions& options) {
                                         "): rename an option file or a value");
   plan.trials = options.trials;
   plan.max_frames = options.max_frames;
+  // The trials' info.yaml read too before a folder is made: a refused compare, as a refused run,
+  // leaves --out as it found it.
+  std::vector<std::optional<SynthOptions>> synths;
+  for (const std::string& path : plan.sequences)
+    synths.push_back(options.trials > 1 ? readSynthInfo(path) : std::nullopt);
 
   std::error_code ec;
   for (const char* sub : {"runs", "logs", "figures"}) {
@@ -216,7 +221,7 @@ Plan makePlan(const CompareOptions& options) {
   }
   const std::string slamcmp = options.slamcmp.empty() ? selfExecutable() : fs::absolute(options.slamcmp).string();
   for (size_t s = 0; s < plan.sequences.size(); ++s) {
-    const std::optional<SynthOptions> synth = options.trials > 1 ? readSynthInfo(plan.sequences[s]) : std::nullopt;
+    const std::optional<SynthOptions>& synth = synths[s];
     for (int trial = 1; trial <= options.trials; ++trial) {
       std::string sequence_path = plan.sequences[s];
       std::string seed_kind;

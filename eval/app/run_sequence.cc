@@ -159,9 +159,13 @@ nlohmann::json runSequence(const RunRequest& request) {
   }
   progress.finish();
   recorder.flush();  // before finish() may throw: the files hold every frame recorded
-  if (recorder.frames() == 0 && interrupted()) throw Interrupted(seq.path + ": interrupted before the first frame");
-  if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
-  if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
+  // Interrupted before a frame could be tracked: still written whole below, a run of the frames
+  // read (none, or none decodable) with "interrupted": true and no timings, so that --collect
+  // counts it interrupted, not failed.
+  if (!interrupted()) {
+    if (recorder.frames() == 0) throw InputError(seq.path, "the sequence has no frames");
+    if (decoded_ok == 0) throw InputError(seq.path, "not one frame could be decoded");
+  }
   if (!interrupted() && !quit) {
     try {
       tracker->finish();

@@ -71,14 +71,17 @@ void checkSummary(const nlohmann::json& summary, const std::string& path) {
   summaryCount(summary, "lost", path, frames - tracked);
   if (!summaryField(summary, {"first_lost_frame"}, path).is_null())
     summaryCount(summary, "first_lost_frame", path, frames - 1);
+  if (summary.contains("interrupted") && !summary["interrupted"].is_boolean())
+    throw InputError(path + ": interrupted", "must be true or false, got " + summary["interrupted"].dump());
+  // null: no frame timed, which only a run interrupted before its first frame leaves.
+  const bool interrupted = summary.value("interrupted", false);
   for (const char* timing : {"ms_per_frame", "cpu_ms_per_frame"})
     for (const char* statistic : {"median", "mean", "p99", "max"}) {
       const nlohmann::json& j = summaryField(summary, {timing, statistic}, path);
+      if (j.is_null() && interrupted) continue;
       if (!j.is_number() || !(j.get<double>() >= 0) || !std::isfinite(j.get<double>()))
         throw InputError(path + ": " + timing + "." + statistic, "must be a number of milliseconds, got " + j.dump());
     }
-  if (summary.contains("interrupted") && !summary["interrupted"].is_boolean())
-    throw InputError(path + ": interrupted", "must be true or false, got " + summary["interrupted"].dump());
   if (summary.contains("alignment") && !summary["alignment"].is_string())
     throw InputError(path + ": alignment", "must be a string, got " + summary["alignment"].dump());
   if (summary.contains("stages")) {

@@ -278,6 +278,13 @@ std::vector<BadCase> cases() {
       // rgb.txt lines.
       rgbCase("RgbEmpty", "", ": lists no frames"),
       rgbCase("RgbOnlyComments", "# nothing\n\n   \n", ": lists no frames"),
+      // Found by the reliability probe: a folder was said to list no frames (as ground truth's reader says).
+      runCase("RgbListIsAFolder",
+              [](const std::string& seq) {
+                std::filesystem::remove(seq + "/rgb.txt");
+                std::filesystem::create_directory(seq + "/rgb.txt");
+              },
+              {"seq/rgb.txt: is a folder, not a text file"}),
       rgbCase("RgbMissingPath", "0.0 rgb/0.png\n0.1\n", ":2: expected 'timestamp path'"),
       rgbCase("RgbExtraField", "0.0 rgb/0.png 7\n", ":1: expected 'timestamp path', found more fields"),
       rgbCase("RgbTimestampNotNumber", "zero rgb/0.png\n", ":1: timestamp 'zero' is not a number"),
@@ -886,6 +893,36 @@ TEST(EmptyOut, SynthWritesNothingIntoTheCurrentFolder) {
       EXPECT_FALSE(std::filesystem::exists(name)) << name << " was written into the current folder";
     }
   }
+}
+
+// A refused compare leaves --out as it found it, as a refused run does: a fresh --out is not
+// created, and one that exists gets no runs/, logs/ or figures/ (a probe found them left empty when
+// a trial's info.yaml was refused after they were made).
+TEST(RefusedCompare, LeavesOutAsItFoundIt) {
+  TempDir tmp;
+  writeSequence(tmp.file("seq"));
+  writeText(tmp.file("seq/rgb.txt"), "0.0 rgb/7.png\n");
+  const test::CommandResult run =
+      test::runSlamcmp("run --backend cslam --sequence " + tmp.file("seq") + " --out " + tmp.file("run"));
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp.file("run"))) << "a refused run created its --out";
+
+  writeSequence(tmp.file("seq"));
+  writeText(tmp.file("seq/info.yaml"), "# slamcmp synth\npreset: [\n");
+  const std::string compare = "compare --sequence " + tmp.file("seq") + " --backends cslam --trials 2 --out ";
+  const test::CommandResult fresh = test::runSlamcmp(compare + tmp.file("c"));
+  EXPECT_EQ(fresh.exit_code, 2) << fresh.err;
+  EXPECT_NE(fresh.err.find("info.yaml"), std::string::npos) << fresh.err;
+  EXPECT_FALSE(std::filesystem::exists(tmp.file("c"))) << "a refused compare created its --out";
+
+  std::filesystem::create_directory(tmp.file("d"));
+  writeText(tmp.file("d/notes.txt"), "the user's own file\n");
+  const test::CommandResult existing = test::runSlamcmp(compare + tmp.file("d"));
+  EXPECT_EQ(existing.exit_code, 2) << existing.err;
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(tmp.file("d")))
+    left.push_back(entry.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"notes.txt"});
 }
 
 // A symmetric board (both counts even, or both odd) is not bad input: one warning line naming

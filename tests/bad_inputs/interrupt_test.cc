@@ -171,5 +171,70 @@ TEST(Interrupt, WhileTheListIsBeingReadSaysSo) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
 }
 
+// Ctrl-C before the first frame (here while groundtruth.txt, read after the image list, is a pipe
+// the test feeds): the run still writes its outputs whole, a run of 0 frames with "interrupted":
+// true and no timings (null, not NaN), and exits 130; --collect counts it interrupted, not failed
+// (a probe found no summary.json, which --collect took for a failed run).
+TEST(Interrupt, BeforeTheFirstFrameLeavesASummaryOfNoFrames) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = tmp.file("seq");
+  const auto rendered = test::runSlamcmp("synth --preset tv1 --frames 3 --supersample 1 --out " + seq);
+  ASSERT_EQ(rendered.exit_code, 0) << rendered.err;
+  const std::string plan = tmp.file("plan");
+  const auto planned = test::runSlamcmp("compare --sequence " + seq + " --backends cslam --plan " + plan);
+  ASSERT_EQ(planned.exit_code, 0) << planned.err;
+  std::ifstream plan_file(plan + "/plan.json");
+  const nlohmann::json run = nlohmann::json::parse(plan_file)["runs"].at(0);
+  const std::string out = plan + "/" + run["dir"].get<std::string>();
+
+  const std::string groundtruth = seq + "/groundtruth.txt";
+  std::stringstream groundtruth_text;
+  groundtruth_text << std::ifstream(groundtruth).rdbuf();
+  std::filesystem::rename(groundtruth, tmp.file("groundtruth.txt"));
+  ASSERT_EQ(mkfifo(groundtruth.c_str(), 0644), 0);
+  const pid_t pid = spawn(run["argv"].get<std::vector<std::string>>(), tmp.file("stdout"), tmp.file("stderr"));
+  ASSERT_GT(pid, 0);
+  const auto previous = std::signal(SIGPIPE, SIG_IGN);  // should the run end before the pipe does
+  const int pipe = open(groundtruth.c_str(), O_WRONLY);  // once the run, past the image list, opens it
+  ASSERT_GE(pipe, 0);
+  kill(pid, SIGINT);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::string text = groundtruth_text.str();
+  EXPECT_EQ(write(pipe, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  close(pipe);
+  std::signal(SIGPIPE, previous);
+  const int code = waitExit(pid, std::chrono::seconds(60));
+  std::filesystem::remove(groundtruth);
+  std::filesystem::rename(tmp.file("groundtruth.txt"), groundtruth);  // as --collect reads it
+
+  std::stringstream stream;
+  stream << std::ifstream(tmp.file("stderr")).rdbuf();
+  const std::string err = stream.str();
+  ASSERT_EQ(code, 130) << err;
+  EXPECT_EQ(err.rfind("slamcmp: interrupted after 0 frames", 0), 0u) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  std::ifstream summary_file(out + "/summary.json");
+  ASSERT_TRUE(summary_file) << "no summary.json";
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["interrupted"], true);
+  EXPECT_EQ(summary["frames"], 0);
+  EXPECT_EQ(summary["tracked"], 0);
+  for (const char* timing : {"ms_per_frame", "cpu_ms_per_frame"})
+    for (const char* statistic : {"median", "mean", "p99", "max"})
+      EXPECT_TRUE(summary[timing][statistic].is_null()) << timing << "." << statistic << ": " << summary[timing];
+  EXPECT_FALSE(summary.contains("ate"));
+  EXPECT_EQ(countLines(out + "/frames.csv"), 1) << "only the header";
+  EXPECT_EQ(countLines(out + "/trajectory.txt"), 1) << "only the header";
+
+  const auto collected = test::runSlamcmp("compare --collect " + plan);
+  EXPECT_EQ(collected.exit_code, 0) << collected.err;
+  std::stringstream report;
+  report << std::ifstream(plan + "/report.md").rdbuf();
+  EXPECT_NE(report.str().find("`" + run["dir"].get<std::string>() + "`: interrupted: stopped after 0 frames"),
+            std::string::npos)
+      << report.str();
+}
+
 }  // namespace
 }  // namespace slamcmp

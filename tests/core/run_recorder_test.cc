@@ -257,6 +257,21 @@ TEST(RunRecorder, WithoutPosesTheTrajectoryHoldsOnlyItsHeader) {
   EXPECT_EQ(readLines(dir.file("frames.csv")).size(), 3u);
 }
 
+// A run interrupted before its first frame: its summary says 0 frames and its timings are null
+// (JSON has no NaN), both in what writeSummary returns and in the file.
+TEST(RunRecorder, NoFrameTimedLeavesTheTimingsNull) {
+  test::TempDir dir;
+  RunRecorder recorder(dir.path(), "cslam");
+  const nlohmann::json returned = recorder.writeSummary({{"interrupted", true}});
+  for (const nlohmann::json& s : {returned, readJson(dir.file("summary.json"))}) {
+    EXPECT_EQ(s["frames"], 0);
+    EXPECT_EQ(s["interrupted"], true);
+    for (const char* timing : {"ms_per_frame", "cpu_ms_per_frame"})
+      for (const char* statistic : {"median", "mean", "p99", "max"})
+        EXPECT_TRUE(s[timing][statistic].is_null()) << timing << "." << statistic << ": " << s[timing];
+  }
+}
+
 
 
 TEST(RunRecorder, UnwritableOutputIsAnInputError) {
