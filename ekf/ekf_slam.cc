@@ -252,19 +252,26 @@ PoseCovariance EkfSlam::poseCovariance() const {
   return 0.5 * (P + P.transpose());
 }
 
+void EkfSlam::rememberPosedMap() {
+  if (!posed_map_) posed_map_.emplace();
+  posed_map_->state = state_;  // into the storage of the last copy: no allocation while the map keeps its size
+  posed_map_->features = features_;
+}
+
 std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* inliers) const {
   *inliers = 0;
-  if (!relocaliser_ || !state_.x().allFinite() || !state_.P().allFinite()) return std::nullopt;
+  const EkfState& state = posed_map_ ? posed_map_->state : state_;
+  if (!relocaliser_ || !state.x().allFinite() || !state.P().allFinite()) return std::nullopt;
   std::vector<Vec3> p_world;
   cv::Mat descriptors;
-  for (const MapFeature& f : features_) {
+  for (const MapFeature& f : posed_map_ ? posed_map_->features : features_) {
     if (f.id >= below_id || f.is_ray || f.descriptor.empty()) continue;
     // An inverse-depth feature whose depth is still unknown (rho within two std of 0) has no point.
     if (f.inverse_depth) {
-      const double rho = state_.x()(f.offset + 5), var = state_.P()(f.offset + 5, f.offset + 5);
+      const double rho = state.x()(f.offset + 5), var = state.P()(f.offset + 5, f.offset + 5);
       if (!(rho > 2 * std::sqrt(std::max(0.0, var)))) continue;
     }
-    const Vec3 p = featurePoint(state_.x(), f);
+    const Vec3 p = featurePoint(state.x(), f);
     if (!p.allFinite()) continue;
     p_world.push_back(p);
     descriptors.push_back(f.descriptor);
@@ -273,6 +280,10 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
 }
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {
+  if (posed_map_) {
+    state_ = posed_map_->state;
+    features_ = posed_map_->features;
+  }
   for (size_t i = features_.size(); i-- > 0;)
     if (features_[i].id >= below_id) removeFeature(i);
   for (MapFeature& f : features_) f.attempts = f.successes;

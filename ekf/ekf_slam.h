@@ -91,6 +91,10 @@ class EkfSlam {
   // map, which keeps its features under `below_id` (the others were mapped from a lost pose) with
   // their failed searches forgotten.
   void relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id);
+  // Keeps the filter as it is now, a posed frame's (with relocalisation): relocalise() matches
+  // against that map and relocate() resumes from it, so the lost frames' own updates (look-alikes
+  // matched from a wrong pose, moving the map through its correlations) never reach it.
+  void rememberPosedMap();
   // Features with ids under `id` are not deleted for failing (while the frames are lost their
   // searches fail for the pose's fault, not theirs); 0 lifts it.
   void protectFeaturesBelow(int id) { protected_below_ = id; }
@@ -133,6 +137,11 @@ class EkfSlam {
   int next_id_ = 0;
   int protected_below_ = 0;
   std::unique_ptr<Relocaliser> relocaliser_;  // when relocalisation is used
+  struct PosedMap {
+    EkfState state;
+    std::vector<MapFeature> features;
+  };
+  std::optional<PosedMap> posed_map_;  // rememberPosedMap()'s
   // How far the last frame's searches reached (3-sigma half axis, pixels; with distinct_),
   // unbounded before any.
   double search_reach_px_ = std::numeric_limits<double>::infinity();
