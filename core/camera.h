@@ -43,6 +43,9 @@ struct CameraModel {
   Vec2 undistortToPixel(const Vec2& uv_distorted) const;
 
   bool inImage(const Vec2& uv, double margin = 0.0) const;
+  // A rolling shutter reading the rows top to bottom in `readout` seconds: when row v (pixels) is
+  // read, relative to the frame's time, the middle row's.
+  double rowTime(double readout, double v) const { return readout * (v / (height - 1.0) - 0.5); }
 
   cv::Mat cameraMatrix() const;      // 3x3 CV_64F
   cv::Mat distortionVector() const;  // 1 x num_distortion CV_64F

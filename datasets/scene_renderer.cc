@@ -65,7 +65,7 @@ cv::Mat SceneRenderer::radiance(const std::function<SE3(double)>& T_world_camera
     for (int v = begin; v < end; ++v) {
       std::optional<SceneView> row_view;
       if (readout > 0)
-        row_view.emplace(scene_, T_world_camera_at(t + readout * (v / (camera_.height - 1.0) - 0.5)), footprint);
+        row_view.emplace(scene_, T_world_camera_at(t + camera_.rowTime(readout, v)), footprint);
       const SceneView& view = row_view ? *row_view : still;
       float* row = out.ptr<float>(v);
       const float* xy = &xy_[2 * static_cast<size_t>(per_pixel) * v * camera_.width];

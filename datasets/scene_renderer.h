@@ -19,7 +19,7 @@ struct FrameEffects {
   double noise_sigma = 0.0;   // grey levels, Gaussian, independent per pixel
   double blur_px = 0.0;       // length of the motion streak at the image centre, pixels
   double illumination = 0.0;  // relative amplitude of a slow change of the overall brightness
-  double rolling_shutter = 0.0;  // seconds from reading the top row to reading the bottom row (0: global)
+  double rolling_shutter = 0.0;  // seconds from reading the top row to the bottom row (0: global)
 };
 
 class SceneRenderer {
@@ -30,14 +30,15 @@ class SceneRenderer {
 
   // Noise-free grey levels (CV_32F) seen from one pose.
   cv::Mat radiance(const SE3& T_world_camera) const;
-  // The same through a rolling shutter: row v seen from T_world_camera_at(t + (v / (height - 1) -
-  // 1/2) readout), the middle row at t.
+  // The same through a rolling shutter: row v seen from T_world_camera_at(t + camera.rowTime(readout,
+  // v)), the middle row at t. T_world_camera_at is called from several threads at once.
   cv::Mat radiance(const std::function<SE3(double)>& T_world_camera_at, double t, double readout) const;
 
   // The 8-bit frame at time t (seconds) of a camera moving along `T_world_camera_at`: the
   // exposure is centred on t, so the frame's ground truth is T_world_camera_at(t). Motion blur
   // averages renders over an exposure (at most one frame_interval) chosen so that the image centre
-  // moves blur_px pixels; a rolling shutter reads each row of each of those renders at its own time.
+  // moves blur_px pixels; a rolling shutter reads each row of each of those renders at its own time
+  // (T_world_camera_at is then called from several threads at once).
   // `seed` and `frame_index` fix the noise.
   cv::Mat renderFrame(const std::function<SE3(double)>& T_world_camera_at, double t,
                       double frame_interval, const FrameEffects& effects, std::uint64_t seed,

@@ -26,12 +26,14 @@ FrameOverlay ekfOverlay(const EkfState& state, const std::vector<MapFeature>& fe
     OverlayFeature f;
     f.id = features[s.index].id;
     f.state = overlayState(s.outcome);
-    f.uv = s.outcome == SearchOutcome::Matched ? s.uv_matched : s.uv_predicted;
+    // In the image as read: a rolling shutter's shift included (zero for the unsearched).
+    const Vec2 uv_searched = s.uv_predicted + s.rolling_shift;
+    f.uv = s.outcome == SearchOutcome::Matched ? s.uv_matched : uv_searched;
     overlay.features.push_back(f);
     if (s.outcome == SearchOutcome::Unmeasured) continue;
     OverlayEllipse e;
     e.feature_id = f.id;
-    e.centre = s.uv_predicted;
+    e.centre = uv_searched;
     e.S = s.S;
     e.matched = s.outcome == SearchOutcome::Matched;
     overlay.search_ellipses.push_back(e);

@@ -24,7 +24,7 @@ enum class SearchOutcome {
 struct FeatureSearch {
   size_t index = 0;                    // into the feature list
   Vec2 uv_predicted = Vec2::Zero();    // prior prediction at the frame's time, distorted pixels
-  Vec2 rolling_shift = Vec2::Zero();   // where its row's read moves it (rolling_shutter.h): searched at the sum
+  Vec2 rolling_shift = Vec2::Zero();   // pixels its row's read moves it (rolling_shutter.h): searched at the sum
   Mat2 S = Mat2::Identity();           // its innovation covariance, pixels^2
   double half_axis = 0;                // its search ellipse's half major axis (sigma_gate), pixels
   SearchOutcome outcome = SearchOutcome::Unmeasured;

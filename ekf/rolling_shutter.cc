@@ -6,10 +6,6 @@
 
 namespace slamcmp {
 
-double rowTime(const CameraModel& camera, double readout, double v) {
-  return readout * (v / (camera.height - 1.0) - 0.5);
-}
-
 Vec2 rollingShutterShift(const CameraModel& camera, double readout, const Eigen::VectorXd& x,
                          const MapFeature& feature, const Vec2& uv_frame_time) {
   if (readout <= 0) return Vec2::Zero();
@@ -18,7 +14,7 @@ Vec2 rollingShutterShift(const CameraModel& camera, double readout, const Eigen:
   for (int step = 0; step < 2; ++step) {
     // The camera when the row is read, by the motion model without impulses.
     const CameraVector at_row =
-        predictCamera(camera_now, rowTime(camera, readout, uv.y()), Eigen::Matrix<double, 6, 1>::Zero());
+        predictCamera(camera_now, camera.rowTime(readout, uv.y()), Eigen::Matrix<double, 6, 1>::Zero());
     PointMeasurement h;
     if (!predictFeature(camera, at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), x, feature, &h))
       return Vec2::Zero();
@@ -32,7 +28,7 @@ Vec2 pixelAtFrameTime(const CameraModel& camera, double readout, const Vec3& w_c
   // R_world_camera(t + tau) = R_world_camera(t) exp(w tau) (motion_model.h): a ray d seen at the
   // row's time is exp(w tau) d in the frame-time camera.
   const Vec2 xy = camera.undistortPixel(uv);
-  const Vec3 ray = rotationFromRotvec(w_camera * rowTime(camera, readout, uv.y())) * Vec3(xy.x(), xy.y(), 1.0);
+  const Vec3 ray = rotationFromRotvec(w_camera * camera.rowTime(readout, uv.y())) * Vec3(xy.x(), xy.y(), 1.0);
   if (ray.z() <= 0) return uv;
   return camera.project(ray);
 }

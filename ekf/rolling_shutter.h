@@ -1,10 +1,12 @@
 #pragma once
-// A rolling shutter reads the image row by row: row v at (v / (height - 1) - 1/2) readout seconds
-// after the frame's time (the middle row's), while the camera moves on. The filter's state is the
+// A rolling shutter reads the image row by row (CameraModel::rowTime: the middle row at the frame's
+// time), while the camera moves on. The filter's state is the
 // camera at the frame's time; with its constant velocities it predicts where each feature is when
 // its row is read, searches there, and takes the match back to the frame's time by the same shift
-// (the measurement model stays the frame-time projection; the shift's own dependence on the
-// velocities is not linearised). A hand-held camera turning 1 rad/s with a 30 ms readout moves a
+// (the measurement model stays the frame-time projection: the shift's dependence on the velocities
+// is neither in the search ellipse nor in the update, so the velocities learn nothing from it).
+// Depth-particle rays (a board-started monoslam's new features) and hybrid's board corners and
+// tracked points are compared as read. A hand-held camera turning 1 rad/s with a 30 ms readout moves a
 // feature up to 8 px between its frame-time and row-time images: a filter that ignores it turns
 // 5 % too far (docs/findings.md, session 29).
 #include <Eigen/Core>
@@ -14,9 +16,6 @@
 #include "ekf/map_feature.h"
 
 namespace slamcmp {
-
-// Seconds after the frame's time at which row v is read.
-double rowTime(const CameraModel& camera, double readout, double v);
 
 // Where `feature` appears in a rolling-shutter image minus where the camera at the frame's time
 // (x's) sees it at uv_frame_time: its prediction at its row's time under the constant velocities

@@ -103,4 +103,18 @@ std::vector<std::string> readLines(const std::string& path) {
   return lines;
 }
 
+Vec2 rollingShutterProjection(const CameraModel& camera, double readout,
+                              const std::function<SE3(double)>& T_world_camera_at, const Vec3& p_world) {
+  auto row_gap = [&](double v) {
+    return camera.project(T_world_camera_at(camera.rowTime(readout, v)).inverse() * p_world).y() - v;
+  };
+  double lo = 0, hi = camera.height - 1.0;
+  EXPECT_LT(row_gap(lo) * row_gap(hi), 0.0) << "the point does not cross the image's rows once";
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (row_gap(lo) * row_gap(mid) <= 0 ? hi : lo) = mid;
+  }
+  return camera.project(T_world_camera_at(camera.rowTime(readout, lo)).inverse() * p_world);
+}
+
 }  // namespace slamcmp::test

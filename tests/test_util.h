@@ -8,6 +8,9 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "core/camera.h"
+#include "core/geometry.h"
+
 namespace slamcmp::test {
 
 // The real data beside the project (../shared/datasets), or "" when absent (a user's clone).
@@ -60,5 +63,11 @@ Eigen::MatrixXd numericJacobian(const std::function<Eigen::VectorXd(const Eigen:
 void expectJacobianMatchesNumeric(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
                                   const Eigen::VectorXd& x, const Eigen::MatrixXd& J,
                                   double tol = 1e-6, double step = 1e-6);
+
+// Where a rolling shutter (CameraModel::rowTime) images p_world, found without the code under
+// test: the row v at which the camera T_world_camera_at(rowTime(readout, v)) projects it onto row
+// v, by bisection over the image's height (the point must cross it once).
+Vec2 rollingShutterProjection(const CameraModel& camera, double readout,
+                              const std::function<SE3(double)>& T_world_camera_at, const Vec3& p_world);
 
 }  // namespace slamcmp::test

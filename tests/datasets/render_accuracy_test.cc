@@ -13,6 +13,7 @@
 #include "datasets/camera_motion.h"
 #include "datasets/room_scene.h"
 #include "datasets/scene_renderer.h"
+#include "tests/test_util.h"
 
 namespace slamcmp {
 namespace {
@@ -160,18 +161,11 @@ TEST_F(Rendered, RollingShutterImagesEachRowFromItsOwnTime) {
   std::vector<cv::Point2f> uv;
   ASSERT_TRUE(detectChessboard(image, target, &uv));
   const CameraModel& camera = renderer_->camera();
-  const auto row_time = [&](double v) { return kReadout * (v / (camera.height - 1.0) - 0.5); };
   std::vector<double> to_row_time, to_frame_time;
   const std::vector<Vec3> corners = target.cornersWorld();
   for (size_t k = 0; k < corners.size(); ++k) {
-    auto row_gap = [&](double v) { return camera.project(pose_at(row_time(v)).inverse() * corners[k]).y() - v; };
-    double lo = 0, hi = camera.height - 1.0;
-    for (int i = 0; i < 60; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      (row_gap(lo) * row_gap(mid) <= 0 ? hi : lo) = mid;
-    }
     const Vec2 detected(uv[k].x, uv[k].y);
-    to_row_time.push_back((camera.project(pose_at(row_time(lo)).inverse() * corners[k]) - detected).norm());
+    to_row_time.push_back((test::rollingShutterProjection(camera, kReadout, pose_at, corners[k]) - detected).norm());
     to_frame_time.push_back((camera.project(pose_at(0.0).inverse() * corners[k]) - detected).norm());
   }
   EXPECT_LT(rms(to_row_time), 0.1);

@@ -70,6 +70,29 @@ TEST(SynthSequence, WrittenFolderReadsBackThroughCore) {
   EXPECT_TRUE(std::filesystem::exists(dir.file("info.yaml")));
 }
 
+// A preset at its own rate (handheld_rpy, 30 fps): frames and ground truth stamped i / 30 s, and
+// info.yaml gives back the options it was rendered with, the rolling shutter among them.
+TEST(SynthSequence, HandheldRpyIsStampedAtItsRateAndItsOptionsReadBack) {
+  test::TempDir dir;
+  SynthOptions options;
+  options.preset = "handheld_rpy";
+  options.frames = 3;
+  options.rolling_shutter = 0.025;
+  options.supersample = 1;
+  writeSyntheticSequence(options, dir.path());
+  Sequence seq = openSequence(dir.path());
+  ASSERT_TRUE(seq.groundtruth.has_value());
+  Frame frame;
+  for (int i = 0; seq.frames->next(&frame); ++i) {
+    EXPECT_NEAR(frame.timestamp, i / 30.0, 1e-6);
+    EXPECT_NEAR((*seq.groundtruth)[i].timestamp, i / 30.0, 1e-6);
+  }
+  const std::optional<SynthOptions> read = readSynthInfo(dir.path());
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ(read->preset, "handheld_rpy");
+  EXPECT_EQ(read->rolling_shutter, 0.025);
+}
+
 TEST(SceneYaml, MalformedFilesAreInputErrors) {
   test::TempDir dir;
   const std::string path = dir.file("scene.yaml");
@@ -102,6 +125,8 @@ TEST(SynthSequence, BadOptionsAreInputErrors) {
   rejects([](SynthOptions& o) { o.blur = -0.5; });
   rejects([](SynthOptions& o) { o.illumination = 1.5; });
   rejects([](SynthOptions& o) { o.supersample = 0; });
+  rejects([](SynthOptions& o) { o.rolling_shutter = -0.01; });
+  rejects([](SynthOptions& o) { o.rolling_shutter = std::nan(""); });
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));  // nothing written before the check
 }
 

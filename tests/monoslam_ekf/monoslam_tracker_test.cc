@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "core/statistics.h"
 #include "core/error.h"
 #include "core/sequence.h"
+#include "core/statistics.h"
 #include "core/trajectory.h"
 #include "datasets/synth_sequence.h"
 #include "eval/metrics/associate.h"
@@ -409,8 +409,6 @@ TEST(MonoslamTracker, TurningAwayIsLostBeforeFiveCentimetres) {
   expectNoFrameOverFiveCentimetres("wall_turn", 115, 15, 85, loose);
 }
 
-// The worst orientation error (degrees) of a board-free run's posed frames, in its world: the
-// first camera's frame (no fit, as `eval --align origin`).
 // Each posed frame's orientation error (degrees) in the first posed camera's frame, as
 // `slamcmp eval --align origin` measures a board-free run.
 std::vector<double> turnErrorsDeg(const std::string& path, const RunResult& run) {
@@ -427,6 +425,7 @@ std::vector<double> turnErrorsDeg(const std::string& path, const RunResult& run)
   return errors;
 }
 
+// The worst of them.
 double worstTurnErrorDeg(const std::string& path, const RunResult& run) {
   const std::vector<double> errors = turnErrorsDeg(path, run);
   return errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
