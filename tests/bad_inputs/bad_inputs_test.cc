@@ -622,6 +622,15 @@ std::vector<BadCase> cases() {
          return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
                            {tmp.file("map.ply"), "ends before vertex 1 of 2"}};
        }},
+      // Found by grepping for readers that open a file without openTextFile: a folder was said to
+      // have "no end_header line".
+      {"MapPlyIsAFolder",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directory(tmp.file("map.ply"));
+         writeText(tmp.file("scene.yaml"), "%YAML:1.0\n---\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("map.ply") + ": is a folder, not a text file"}};
+       }},
       {"SceneYamlMissingEdge",
        [](const TempDir& tmp) {
          writeText(tmp.file("map.ply"),
