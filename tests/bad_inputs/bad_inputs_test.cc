@@ -767,6 +767,14 @@ std::vector<BadCase> cases() {
                                tmp.file("c"),
                            {tmp.file("seq/info.yaml") + ": seed: written twice in one mapping (lines 2 and 3)"}};
        }},
+      // compare --collect of a folder whose plan.json is a folder (was exit 1: "basic_filebuf::underflow
+      // error reading the file: Is a directory", naming no file).
+      {"CollectPlanJsonIsAFolder",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directory(tmp.file("plan.json"));
+         return Invocation{"compare --collect " + tmp.path(),
+                           {tmp.file("plan.json") + ": is a folder, not a text file"}};
+       }},
       // compare --config: a value its back-end refuses; a file for none of the back-ends compared.
       compareConfigCase("CompareConfigValueRefused", "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",
                         "hybrid", "hybrid.corners.pixel_sigma: must be positive"),
