@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "core/format_string.h"
+#include "core/text_file.h"
 
 namespace slamcmp {
 
@@ -32,8 +33,7 @@ void parseStatusColumn(const std::string& s, const std::string& where, FrameRow*
 }
 
 std::vector<FrameRow> readFramesCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  std::ifstream in = openTextFile(path);  // a folder would have the wrong header
   std::string line;
   if (!std::getline(in, line) || line.rfind(framesCsvHeader(), 0) != 0)
     throw InputError(atLine(path, 1), std::string("header must be '") + framesCsvHeader() + "'");

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/statistics.h"
+#include "core/text_file.h"
 #include "core/trajectory.h"
 
 namespace fs = std::filesystem;

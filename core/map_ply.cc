@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/format_string.h"
+#include "core/text_file.h"
 
 namespace slamcmp {
 
@@ -245,8 +246,7 @@ void parseAsciiElement(const std::string& line, const PlyElement& e, const std::
 }  // namespace
 
 std::vector<MapPoint> readMapPly(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot be opened");
+  std::ifstream in = openTextFile(path, std::ios::binary);  // a folder would have "no end_header line"
   const PlyHeader header = readHeader(in, path);
 
   const auto vertex = std::find_if(header.elements.begin(), header.elements.end(),

@@ -3,13 +3,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
-#include <system_error>
 #include <utility>
 
 #include "core/error.h"
 #include "core/format_string.h"
+#include "core/text_file.h"
 
 namespace slamcmp {
 
@@ -43,16 +42,6 @@ void checkPlausibleSeconds(double seconds, const std::string& where) {
       break;
     }
   throw InputError(where, why);
-}
-
-// A folder opens as an empty stream, which would "hold no pose": say what it is, as the YAML
-// readers do.
-std::ifstream openTextFile(const std::string& path) {
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a text file");
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
-  return in;
 }
 
 namespace {

@@ -1,7 +1,6 @@
 #pragma once
 // Trajectories: timestamped T_world_camera poses. Read in TUM, EuRoC and KITTI formats, written
 // in TUM format (what evo and the TUM tools read).
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -41,10 +40,6 @@ std::string formatTumLine(const StampedPose& pose);
 // since 1970): anything larger is another unit (ns, us or ms since 1970: the message guesses which)
 // or garbage, and would print as hundreds of digits.
 void checkPlausibleSeconds(double seconds, const std::string& where);
-
-// `path` opened for reading; InputError naming it if it is a folder ("is a folder, not a text
-// file": a folder would read as an empty file) or cannot be opened.
-std::ifstream openTextFile(const std::string& path);
 
 // Splits a text line into numbers at spaces, tabs or commas. Returns false if a field is not a
 // number (NaN and infinity are reported by the callers, which know the line).

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/text_file.h"
 #include "eval/app/backends.h"
 #include "eval/app/compare_plan.h"
 #include "eval/app/job_runner.h"
@@ -73,8 +74,9 @@ std::vector<Method> parseMethods(const std::string& list) {
 namespace {
 
 // The run's last line in its log, the way `slamcmp run` said why it stopped ("" if none).
+// InputError if the log is a folder (which would read as an empty log) or cannot be opened.
 std::string lastLogLine(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in = openTextFile(path);
   std::string line, last;
   while (std::getline(in, line))
     if (!line.empty() && line.find('\r') == std::string::npos) last = line;
@@ -103,8 +105,12 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
     }
   } else if (fs::exists(fs::path(dir) / planned.log, ec)) {
     r.status = "failed";
-    r.error = lastLogLine((fs::path(dir) / planned.log).string());
-    if (r.error.empty()) r.error = "no summary.json and nothing in its log (killed?)";
+    try {
+      r.error = lastLogLine((fs::path(dir) / planned.log).string());
+      if (r.error.empty()) r.error = "no summary.json and nothing in its log (killed?)";
+    } catch (const InputError& e) {  // the log is a folder or unreadable: that is the run's error
+      r.error = e.what();
+    }
   } else {
     r.status = "not run";
   }
@@ -128,8 +134,10 @@ size_t planCompare(const CompareOptions& options) {
 std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedRun>* unfinished) {
   const std::string dir = absoluteDir(dir_given);
   const std::string plan_path = dir + "/plan.json";
-  std::ifstream in(plan_path);
-  if (!in) throw InputError(plan_path, "missing: --collect takes the folder that compare --plan wrote");
+  std::error_code ec;
+  if (!fs::exists(plan_path, ec))
+    throw InputError(plan_path, "missing: --collect takes the folder that compare --plan wrote");
+  std::ifstream in = openTextFile(plan_path);  // a folder would throw "Is a directory" (exit 1)
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(in);

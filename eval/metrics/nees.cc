@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 
 #include "core/error.h"
+#include "core/text_file.h"
 #include "eval/metrics/associate.h"
 
 namespace slamcmp {
@@ -101,8 +102,7 @@ void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows) {
 }
 
 std::vector<TimedNees> readNeesCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot be read");
+  std::ifstream in = openTextFile(path);  // a folder would have the wrong header
   std::string line;
   if (std::getline(in, line) && !line.empty() && line.back() == '\r') line.pop_back();
   if (line != "timestamp,nees") throw InputError(atLine(path, 1), "header is not timestamp,nees");

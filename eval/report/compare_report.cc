@@ -12,6 +12,7 @@
 #include "core/map_ply.h"
 #include "core/sequence.h"
 #include "core/statistics.h"
+#include "core/text_file.h"
 #include "eval/report/compare_figures.h"
 #include "eval/report/experiment_figures.h"
 #include "eval/report/experiment_plan.h"
@@ -100,8 +101,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   r.method = method;
   r.dir = dir;
   const std::string summary_path = dir + "/summary.json";
-  std::ifstream in(summary_path);
-  if (!in) throw InputError(summary_path, "missing");
+  std::ifstream in = openTextFile(summary_path);  // a folder would throw "Is a directory", naming no file
   try {
     r.summary = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {

@@ -622,6 +622,15 @@ std::vector<BadCase> cases() {
          return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
                            {tmp.file("map.ply"), "ends before vertex 1 of 2"}};
        }},
+      // Found by grepping for readers that open a file without openTextFile: a folder was said to
+      // have "no end_header line".
+      {"MapPlyIsAFolder",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directory(tmp.file("map.ply"));
+         writeText(tmp.file("scene.yaml"), "%YAML:1.0\n---\nsurfaces: []\n");
+         return Invocation{"eval --map " + tmp.file("map.ply") + " --scene " + tmp.file("scene.yaml"),
+                           {tmp.file("map.ply") + ": is a folder, not a text file"}};
+       }},
       {"SceneYamlMissingEdge",
        [](const TempDir& tmp) {
          writeText(tmp.file("map.ply"),
@@ -757,6 +766,14 @@ std::vector<BadCase> cases() {
          return Invocation{"compare --sequence " + tmp.file("seq") + " --backends cslam --trials 2 --out " +
                                tmp.file("c"),
                            {tmp.file("seq/info.yaml") + ": seed: written twice in one mapping (lines 2 and 3)"}};
+       }},
+      // compare --collect of a folder whose plan.json is a folder (was exit 1: "basic_filebuf::underflow
+      // error reading the file: Is a directory", naming no file).
+      {"CollectPlanJsonIsAFolder",
+       [](const TempDir& tmp) {
+         std::filesystem::create_directory(tmp.file("plan.json"));
+         return Invocation{"compare --collect " + tmp.path(),
+                           {tmp.file("plan.json") + ": is a folder, not a text file"}};
        }},
       // compare --config: a value its back-end refuses; a file for none of the back-ends compared.
       compareConfigCase("CompareConfigValueRefused", "%YAML:1.0\n---\nhybrid:\n  corners:\n    pixel_sigma: -1\n",

@@ -152,6 +152,53 @@ TEST(RunOutputs, CollectRefusesAMalformedSummary) {
       << error;
 }
 
+// --collect of a run one of whose files is a folder says so, naming the file (a folder was read as
+// an empty file: frames.csv and nees.csv "had the wrong header", map.ply "no end_header line",
+// summary.json "Is a directory" naming no file), as for any run that cannot be read: one line for
+// the run, one for the report, exit 2.
+TEST(RunOutputs, CollectSaysWhichRunFileIsAFolder) {
+  TempDir tmp;
+  const std::string run = compareTv1(tmp);
+  ASSERT_TRUE(fs::exists(run + "/map.ply"));  // read as tv1 has a scene.yaml
+  ASSERT_FALSE(fs::exists(run + "/nees.csv"));  // cslam writes none; read when it is there
+  for (const char* name : {"summary.json", "frames.csv", "trajectory.txt", "nees.csv", "map.ply"}) {
+    SCOPED_TRACE(name);
+    const std::string file = run + "/" + name, aside = tmp.file("aside");
+    const bool existed = fs::exists(file);
+    if (existed) fs::rename(file, aside);
+    fs::create_directory(file);
+    const auto collected = test::runSlamcmp("compare --collect " + tmp.file("c"));
+    EXPECT_EQ(collected.exit_code, 2) << collected.err;
+    EXPECT_EQ(lineCount(collected.err), 2) << collected.err;
+    EXPECT_EQ(collected.err.rfind("slamcmp: " + run + ": failed: " + file + ": is a folder, not a text file\n", 0), 0u)
+        << collected.err;
+    fs::remove(file);
+    if (existed) fs::rename(aside, file);
+  }
+  const auto restored = test::runSlamcmp("compare --collect " + tmp.file("c"));
+  EXPECT_EQ(restored.exit_code, 0) << restored.err;
+}
+
+// --collect of a planned run whose log is a folder (and no summary.json): the run failed, and its
+// error names the log as a folder (it was "nothing in its log (killed?)").
+TEST(RunOutputs, CollectSaysARunLogIsAFolder) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 3, "good");
+  const std::string plan = tmp.file("p");
+  const auto planned = test::runSlamcmp("compare --sequence " + seq + " --backends cslam --plan " + plan);
+  ASSERT_EQ(planned.exit_code, 0) << planned.err;
+  const std::string log = plan + "/logs/good-cslam.log";
+  fs::create_directories(log);
+  const auto collected = test::runSlamcmp("compare --collect " + plan);
+  EXPECT_EQ(collected.exit_code, 2) << collected.err;
+  EXPECT_EQ(lineCount(collected.err), 2) << collected.err;
+  EXPECT_EQ(collected.err.rfind("slamcmp: " + plan + "/runs/good-cslam: failed: " + log +
+                                    ": is a folder, not a text file\n",
+                                0),
+            0u)
+      << collected.err;
+}
+
 // A compare where a run failed says so, a line for each, and exits 2, as --collect of it does.
 TEST(RunOutputs, CompareAndCollectSayWhichRunsFailed) {
   TempDir tmp;

@@ -1,0 +1,21 @@
+#include "core/text_file.h"
+
+#include <filesystem>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace slamcmp {
+
+// A folder opens as a stream whose reads fail (a trajectory would "hold no pose", a CSV file
+// have the wrong header, a JSON file throw "Is a directory" naming no file): say what it is, as
+// the YAML readers do.
+std::ifstream openTextFile(const std::string& path, std::ios::openmode mode) {
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored)) throw InputError(path, "is a folder, not a text file");
+  std::ifstream in(path, mode);
+  if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
+  return in;
+}
+
+}  // namespace slamcmp

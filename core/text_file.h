@@ -1,0 +1,15 @@
+#pragma once
+// Opening a file the user named (a trajectory, an image list, a PLY map, a run's files read back
+// by compare --collect).
+#include <fstream>
+#include <ios>
+#include <string>
+
+namespace slamcmp {
+
+// `path` opened for reading (`mode` may add std::ios::binary); InputError naming it if it is a
+// folder ("is a folder, not a text file": a folder would read as an empty file, or throw from
+// the stream's first read) or cannot be opened.
+std::ifstream openTextFile(const std::string& path, std::ios::openmode mode = std::ios::in);
+
+}  // namespace slamcmp
