@@ -253,6 +253,7 @@ PoseCovariance EkfSlam::poseCovariance() const {
 }
 
 void EkfSlam::rememberPosedMap() {
+  if (!relocaliser_) return;  // only relocalisation reads it: no copy a frame for the others
   if (!posed_map_) posed_map_.emplace();
   posed_map_->state = state_;  // into the storage of the last copy: no allocation while the map keeps its size
   posed_map_->features = features_;

@@ -91,7 +91,7 @@ class EkfSlam {
   // map, which keeps its features under `below_id` (the others were mapped from a lost pose) with
   // their failed searches forgotten.
   void relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id);
-  // Keeps the filter as it is now, a posed frame's (with relocalisation): relocalise() matches
+  // Keeps the filter as it is now, a posed frame's (with relocalisation; else nothing): relocalise() matches
   // against that map and relocate() resumes from it, so the lost frames' own updates (look-alikes
   // matched from a wrong pose, moving the map through its correlations) never reach it.
   void rememberPosedMap();

@@ -314,7 +314,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     return result;
   }
   trusted_id_limit_ = slam_.nextFeatureId();
-  if (slam_.relocalises()) slam_.rememberPosedMap();
+  slam_.rememberPosedMap();
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
