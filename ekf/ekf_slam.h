@@ -71,6 +71,8 @@ class EkfSlam {
   // The motion noise back to its set values (motion.adaptive): the filter was found too sure of
   // its motion (the board where it did not expect it).
   void distrustMotion() { motion_noise_.restart(); }
+  // The motion noise of the last prediction (adapted, or as set).
+  const MotionModelOptions& motionNoise() const { return motion_noise_.current(); }
   // Active search of the map's points and their update (frame_measurement.h).
   FrameMeasurement measure(const cv::Mat& grey);
   // Depth particles of the initialising rays weighted in this frame; converged rays become points,

@@ -10,43 +10,60 @@ namespace slamcmp {
 
 namespace {
 
-constexpr int kPose = 7;  // r and q: the camera entries a measurement depends on (offsets 0..6)
-using Mat27 = Eigen::Matrix<double, 2, kPose>;
+constexpr int kPose = 7;     // r and q: the camera entries a measurement depends on (offsets 0..6)
+constexpr int kMoving = 13;  // and v, w for one seen at its row's time (PointMeasurement::row_timed)
 
-Mat27 poseJacobian(const PointMeasurement& h) {
-  Mat27 H;
-  H << h.H_r, h.H_q;
+// d h / d camera over its first kCam entries.
+template <int kCam>
+Eigen::Matrix<double, 2, kCam> cameraJacobian(const PointMeasurement& h) {
+  Eigen::Matrix<double, 2, kCam> H;
+  if constexpr (kCam == kPose) H << h.H_r, h.H_q;
+  else H << h.H_r, h.H_q, h.H_v, h.H_w;
   return H;
+}
+
+bool anyRowTimed(const std::vector<PointObservation>& observations) {
+  return std::any_of(observations.begin(), observations.end(), [](const PointObservation& o) { return o.h.row_timed; });
 }
 
 int featureDim(const PointObservation& o) { return o.offset == kKnownPoint ? 0 : static_cast<int>(o.h.H_y.cols()); }
 
-// P H^T (n x 2) of one observation: H is non-zero only over (r, q) and the feature's block.
+// P H^T (n x 2) of one observation: H is non-zero only over the camera's first kCam entries and the
+// feature's block.
+template <int kCam>
 Eigen::Matrix<double, Eigen::Dynamic, 2> gainNumerator(const Eigen::MatrixXd& P, const PointObservation& o) {
-  Eigen::Matrix<double, Eigen::Dynamic, 2> W = P.leftCols<kPose>() * poseJacobian(o.h).transpose();
+  Eigen::Matrix<double, Eigen::Dynamic, 2> W = P.leftCols<kCam>() * cameraJacobian<kCam>(o.h).transpose();
   if (const int d = featureDim(o)) W.noalias() += P.middleCols(o.offset, d) * o.h.H_y.transpose();
   return W;
 }
 
 // H w for the rows of W = P H^T (or any n-row matrix) that H touches.
+template <int kCam>
 Eigen::Matrix<double, 2, Eigen::Dynamic> applyH(const PointObservation& o, const Eigen::Ref<const Eigen::MatrixXd>& W) {
-  Eigen::Matrix<double, 2, Eigen::Dynamic> out = poseJacobian(o.h) * W.topRows<kPose>();
+  Eigen::Matrix<double, 2, Eigen::Dynamic> out = cameraJacobian<kCam>(o.h) * W.topRows<kCam>();
   if (const int d = featureDim(o)) out.noalias() += o.h.H_y * W.middleRows(o.offset, d);
   return out;
 }
 
 // W = P H^T (n x 2m), S = H (P H^T) + R from the rows of W that H touches, and nu = z - h when asked.
-void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation>& observations, double pixel_sigma,
-                    Eigen::MatrixXd* W, Eigen::MatrixXd* S, Eigen::VectorXd* nu) {
+template <int kCam>
+void gainInnovationOver(const Eigen::MatrixXd& P, const std::vector<PointObservation>& observations, double pixel_sigma,
+                        Eigen::MatrixXd* W, Eigen::MatrixXd* S, Eigen::VectorXd* nu) {
   const int m = static_cast<int>(observations.size());
   W->resize(P.rows(), 2 * m);
-  for (int k = 0; k < m; ++k) W->middleCols<2>(2 * k) = gainNumerator(P, observations[k]);
+  for (int k = 0; k < m; ++k) W->middleCols<2>(2 * k) = gainNumerator<kCam>(P, observations[k]);
   S->resize(2 * m, 2 * m);
-  for (int k = 0; k < m; ++k) S->middleRows<2>(2 * k) = applyH(observations[k], *W);
+  for (int k = 0; k < m; ++k) S->middleRows<2>(2 * k) = applyH<kCam>(observations[k], *W);
   S->diagonal().array() += pixel_sigma * pixel_sigma;
   if (!nu) return;
   nu->resize(2 * m);
   for (int k = 0; k < m; ++k) nu->segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
+}
+
+void gainInnovation(const Eigen::MatrixXd& P, const std::vector<PointObservation>& observations, double pixel_sigma,
+                    Eigen::MatrixXd* W, Eigen::MatrixXd* S, Eigen::VectorXd* nu) {
+  if (anyRowTimed(observations)) gainInnovationOver<kMoving>(P, observations, pixel_sigma, W, S, nu);
+  else gainInnovationOver<kPose>(P, observations, pixel_sigma, W, S, nu);
 }
 
 // P -= W W^T, a symmetric rank update of P's lower triangle mirrored to the upper (P stays exactly
@@ -60,28 +77,40 @@ void downdate(EkfState& state, const Eigen::MatrixXd& W) {
 
 }  // namespace
 
-Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
-  static_assert(EkfState::kR == 0 && EkfState::kQ == 3, "r and q are the first 7 entries");
+namespace {
+
+template <int kCam>
+Mat2 pointInnovationCovarianceOver(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
+  static_assert(EkfState::kR == 0 && EkfState::kQ == 3 && EkfState::kV == 7 && EkfState::kW == 10,
+                "r, q, v, w are the first 13 entries");
   const Eigen::MatrixXd& P = state.P();
-  const Mat27 H_c = poseJacobian(h);
-  Mat2 S = H_c * P.topLeftCorner<kPose, kPose>() * H_c.transpose();
+  const Eigen::Matrix<double, 2, kCam> H_c = cameraJacobian<kCam>(h);
+  Mat2 S = H_c * P.topLeftCorner<kCam, kCam>() * H_c.transpose();
   if (offset != kKnownPoint) {
     const int d = static_cast<int>(h.H_y.cols());
-    const Mat2 cross = H_c * P.block(0, offset, kPose, d) * h.H_y.transpose();
+    const Mat2 cross = H_c * P.block(0, offset, kCam, d) * h.H_y.transpose();
     S += h.H_y * P.block(offset, offset, d, d) * h.H_y.transpose() + cross + cross.transpose();
   }
   S.diagonal().array() += pixel_sigma * pixel_sigma;
   return 0.5 * (S + S.transpose());
 }
 
+}  // namespace
+
+Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {
+  return h.row_timed ? pointInnovationCovarianceOver<kMoving>(state, h, offset, pixel_sigma)
+                     : pointInnovationCovarianceOver<kPose>(state, h, offset, pixel_sigma);
+}
+
 Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
                                      double pixel_sigma) {
-  // P restricted to (r, q, y_1..y_m) and H over the same entries: S = H_sub P_sub H_sub^T + R
+  // P restricted to (r, q[, v, w], y_1..y_m) and H over the same entries: S = H_sub P_sub H_sub^T + R
   // (a known point has no block: it is exact).
   const int m = static_cast<int>(observations.size());
   const Eigen::MatrixXd& P = state.P();
+  const bool moving = anyRowTimed(observations);
   std::vector<int> index;
-  for (int i = 0; i < kPose; ++i) index.push_back(i);
+  for (int i = 0; i < (moving ? kMoving : kPose); ++i) index.push_back(i);
   std::vector<int> column(m);  // observation k's first column in H_sub
   for (int k = 0; k < m; ++k) {
     column[k] = static_cast<int>(index.size());
@@ -91,7 +120,8 @@ Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<Po
   const Eigen::MatrixXd P_sub = P(index, index);
   Eigen::MatrixXd H_sub = Eigen::MatrixXd::Zero(2 * m, d);
   for (int k = 0; k < m; ++k) {
-    H_sub.block<2, kPose>(2 * k, 0) = poseJacobian(observations[k].h);
+    if (moving) H_sub.block<2, kMoving>(2 * k, 0) = cameraJacobian<kMoving>(observations[k].h);
+    else H_sub.block<2, kPose>(2 * k, 0) = cameraJacobian<kPose>(observations[k].h);
     if (const int dim = featureDim(observations[k])) H_sub.block(2 * k, column[k], 2, dim) = observations[k].h.H_y;
   }
   Eigen::MatrixXd S = H_sub * P_sub * H_sub.transpose();
@@ -127,7 +157,7 @@ bool knownPointsOnly(const std::vector<PointObservation>& observations) {
 // Gauss-Newton on the prior and the measurements: x_{i+1} = x_0 + correct(nu_i) with
 // nu_i = z - h(x_i) - H_i (x_0 - x_i), until the camera moves by less than `tolerance`. `correct`
 // forms its gain at the observations' current linearisation (false: S is not positive definite).
-template <class Correct>
+template <int kCam, class Correct>
 bool gaussNewton(const EkfState& state, std::vector<PointObservation>* observations, const Relinearise& relinearise,
                  int max_iterations, double tolerance, const Correct& correct, Eigen::VectorXd* iterate) {
   const int m = static_cast<int>(observations->size());
@@ -138,7 +168,7 @@ bool gaussNewton(const EkfState& state, std::vector<PointObservation>* observati
     const Eigen::VectorXd dx = state.x() - *iterate;
     for (int k = 0; k < m; ++k) {
       const PointObservation& o = (*observations)[k];
-      nu.segment<2>(2 * k) = o.z - o.h.uv_distorted - applyH(o, dx);
+      nu.segment<2>(2 * k) = o.z - o.h.uv_distorted - applyH<kCam>(o, dx);
     }
     Eigen::VectorXd next = state.x();
     if (!correct(nu, &next)) return false;
@@ -164,6 +194,8 @@ void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::Vect
 // with N = G P_cc G^T + s^2 I (P_c: P's (r, q) columns, P_cc their 7 x 7 top). N and S have the
 // same eigenvalues but for some equal to s^2, so S is positive definite when N is. No 2m x 2m
 // matrix is formed or factored, and K S K^T = W W^T with W = P_c G^T L^-T (N = L L^T): rank 7.
+// (Seen at their rows' times, over (r, q, v, w), the 13 x 13 gain strays from the dense formula
+// by up to 500 times the batch update's: v and w barely move h, and N's eigenvalues spread.)
 bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                           const Relinearise& relinearise, int max_iterations, double tolerance) {
   using Mat77 = Eigen::Matrix<double, kPose, kPose>;
@@ -177,7 +209,7 @@ bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observ
     Mat77 HtH = Mat77::Zero();
     Vec7 Ht_nu = Vec7::Zero();
     for (size_t k = 0; k < observations->size(); ++k) {
-      const Mat27 H = poseJacobian((*observations)[k].h);
+      const Eigen::Matrix<double, 2, kPose> H = cameraJacobian<kPose>((*observations)[k].h);
       HtH.noalias() += H.transpose() * H;
       Ht_nu.noalias() += H.transpose() * nu.segment<2>(2 * static_cast<long>(k));
     }
@@ -193,7 +225,7 @@ bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observ
     return true;
   };
   Eigen::VectorXd iterate;
-  if (!gaussNewton(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
+  if (!gaussNewton<kPose>(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
   Eigen::MatrixXd W = P_c * G.transpose();  // G and N are the last iteration's
   N.matrixU().solveInPlace<Eigen::OnTheRight>(W);
   finishIteratedUpdate(state, W, std::move(iterate), observations, relinearise);
@@ -205,7 +237,8 @@ bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observ
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                     const Relinearise& relinearise, int max_iterations, double tolerance) {
   if (observations->empty()) return true;
-  if (knownPointsOnly(*observations))
+  const bool moving = anyRowTimed(*observations);
+  if (knownPointsOnly(*observations) && !moving)
     return iteratedCameraUpdate(state, observations, pixel_sigma, relinearise, max_iterations, tolerance);
   Eigen::MatrixXd W, S;
   Eigen::LLT<Eigen::MatrixXd> llt;
@@ -217,7 +250,9 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
     return true;
   };
   Eigen::VectorXd iterate;
-  if (!gaussNewton(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)) return false;
+  if (!(moving ? gaussNewton<kMoving>(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)
+               : gaussNewton<kPose>(state, observations, relinearise, max_iterations, tolerance, correct, &iterate)))
+    return false;
   llt.matrixU().solveInPlace<Eigen::OnTheRight>(W);  // P -= K_i S_i K_i^T = W S^-1 W^T, as in batchUpdate
   finishIteratedUpdate(state, W, std::move(iterate), observations, relinearise);
   return true;

@@ -16,6 +16,7 @@ bool predictMeasurement(const CameraModel& camera, const Vec3& r, const Vec4& q,
   out->H_y = H_y;
   out->H_r = -H_y;
   out->H_q = J_p * J_q;
+  out->row_timed = false;
   return true;
 }
 

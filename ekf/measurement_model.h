@@ -19,6 +19,11 @@ struct PointMeasurement {
   Mat23 H_r;  // d h / d r
   Mat24 H_q;  // d h / d q
   FeatureJacobian H_y;  // d h / d y (its columns: the feature's state size)
+  // Seen at its row's time by a rolling shutter (rolling_shutter.h: predictAtRowTime), h depends on
+  // the velocities too: H_v = d h / d v, H_w = d h / d w, read only when row_timed.
+  bool row_timed = false;
+  Mat23 H_v;
+  Mat23 H_w;
 };
 
 // False when the point is closer than min_depth in front of the camera (no projection).

@@ -1,5 +1,9 @@
 #include "ekf/rolling_shutter.h"
 
+#include <cmath>
+
+#include <Eigen/LU>
+
 #include "ekf/ekf_state.h"
 #include "ekf/frame_measurement.h"
 #include "ekf/motion_model.h"
@@ -31,6 +35,57 @@ Vec2 pixelAtFrameTime(const CameraModel& camera, double readout, const Vec3& w_c
   const Vec3 ray = rotationFromRotvec(w_camera * camera.rowTime(readout, uv.y())) * Vec3(xy.x(), xy.y(), 1.0);
   if (ray.z() <= 0) return uv;
   return camera.project(ray);
+}
+
+double rollingShutterPixelSigma(const CameraModel& camera, double readout, const MotionModelOptions& motion) {
+  const double q = motion.sigma_alpha * motion.sigma_alpha / motion.reference_rate;  // rad^2 / s^3
+  const double half = 0.5 * readout;
+  return 0.5 * (camera.fx + camera.fy) * std::sqrt(q * half * half * half / 3.0);
+}
+
+bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera, const Vec3& p_world,
+                      PointMeasurement* h, double min_depth) {
+  if (!predictMeasurement(camera, x_camera.segment<3>(EkfState::kR), x_camera.segment<4>(EkfState::kQ), p_world, h,
+                          min_depth))
+    return false;
+  if (readout <= 0) return true;
+  // Each step moves the row by about (d v / d tau) * readout / height times the last step's move
+  // (0.03 for a feature moving 500 px/s under a 30 ms readout).
+  constexpr int kMaxSteps = 8;
+  constexpr double kRowTolerancePx = 1e-4;
+  Mat13 F;
+  CameraVector at_row;
+  double row = h->uv_distorted.y();
+  for (int step = 0; step < kMaxSteps; ++step) {
+    at_row = predictCamera(x_camera, camera.rowTime(readout, row), Eigen::Matrix<double, 6, 1>::Zero(), &F);
+    if (!predictMeasurement(camera, at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), p_world, h,
+                            min_depth))
+      return false;
+    const double moved = std::abs(h->uv_distorted.y() - row);
+    row = h->uv_distorted.y();
+    if (moved < kRowTolerancePx) break;
+  }
+  // h(x) = g(camera at tau(v), x) with v h's own row: dh = G dx + (dg/dtau) tau' dv, so
+  // (I - (dg/dtau) tau' e_v^T) dh = G dx with G = [H_r H_q] d(r, q)_row / d x.
+  Eigen::Matrix<double, 2, 7> H_pose;
+  H_pose << h->H_r, h->H_q;
+  const Eigen::Matrix<double, 2, 13> G = H_pose * F.topRows<7>();
+  Eigen::Matrix<double, 7, 1> pose_rate;  // d (r, q) / d tau at the row: v and q * (0, w) / 2
+  pose_rate << at_row.segment<3>(EkfState::kV),
+      0.5 * quatMultiply(at_row.segment<4>(EkfState::kQ), Vec4(0, at_row(EkfState::kW), at_row(EkfState::kW + 1),
+                                                                 at_row(EkfState::kW + 2)));
+  const Vec2 g_tau = H_pose * pose_rate;
+  Mat2 M = Mat2::Identity();
+  M.col(1) -= g_tau * readout / (camera.height - 1.0);
+  const Mat2 M_inv = M.inverse();
+  const Eigen::Matrix<double, 2, 13> H = M_inv * G;
+  h->H_r = H.middleCols<3>(EkfState::kR);
+  h->H_q = H.middleCols<4>(EkfState::kQ);
+  h->H_v = H.middleCols<3>(EkfState::kV);
+  h->H_w = H.middleCols<3>(EkfState::kW);
+  h->H_y = M_inv * h->H_y;
+  h->row_timed = true;
+  return true;
 }
 
 }  // namespace slamcmp

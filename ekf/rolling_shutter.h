@@ -5,8 +5,10 @@
 // its row is read, searches there, and takes the match back to the frame's time by the same shift
 // (the measurement model stays the frame-time projection: the shift's dependence on the velocities
 // is neither in the search ellipse nor in the update, so the velocities learn nothing from it).
-// Depth-particle rays (a board-started monoslam's new features) and hybrid's board corners and
-// tracked points are compared as read. A hand-held camera turning 1 rad/s with a 30 ms readout moves a
+// Depth-particle rays (a board-started monoslam's new features) and hybrid's tracked points are
+// compared as read. Known points (hybrid's board corners, 0.01 px exact) are predicted at their
+// rows' times instead, with the velocities in their Jacobians (predictAtRowTime): a shift taken back
+// with the velocities held would carry the velocities' error, 80 times the corners' noise. A hand-held camera turning 1 rad/s with a 30 ms readout moves a
 // feature up to 8 px between its frame-time and row-time images: a filter that ignores it turns
 // 5 % too far (docs/findings.md, session 29).
 #include <Eigen/Core>
@@ -14,6 +16,8 @@
 #include "core/camera.h"
 #include "core/geometry.h"
 #include "ekf/map_feature.h"
+#include "ekf/measurement_model.h"
+#include "ekf/motion_model.h"
 
 namespace slamcmp {
 
@@ -27,5 +31,21 @@ Vec2 rollingShutterShift(const CameraModel& camera, double readout, const Eigen:
 // at uv: the camera's turn (w_camera, rad/s, camera frame) over the row's time undone. Its
 // translation is neglected (a new feature's depth is unknown; at 1 m and 0.1 m/s it moves 1.5 mm).
 Vec2 pixelAtFrameTime(const CameraModel& camera, double readout, const Vec3& w_camera, const Vec2& uv);
+
+// How far (pixels, std) a feature read at the first or last row may be from where the constant
+// velocities put it: the motion model's angular velocity is a random walk (white angular
+// acceleration, variance sigma_alpha^2 / reference_rate per second), whose turn over half the
+// readout has variance q (readout / 2)^3 / 3, seen through the mean focal length. Its translation
+// is left out (it depends on the depth). About 0.3 px for sigma_alpha 3 rad/s^2 at 30 Hz, 525 px
+// and a 30 ms readout, 0.1 px at sigma_alpha 1.
+double rollingShutterPixelSigma(const CameraModel& camera, double readout, const MotionModelOptions& motion);
+
+// A known world point where a rolling-shutter image shows it: seen from the camera at its row's
+// time under the constant velocities of x_camera (the row found by fixed-point steps to 1e-4 px),
+// with h's Jacobians with respect to the whole camera block (H_v, H_w; row_timed set), the row's
+// own dependence on the state included. Readout 0: predictMeasurement at the frame's time. False
+// where it cannot be predicted (closer than min_depth).
+bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera, const Vec3& p_world,
+                      PointMeasurement* h, double min_depth);
 
 }  // namespace slamcmp

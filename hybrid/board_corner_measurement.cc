@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/options.h"
 #include "core/subpixel_corner.h"
+#include "ekf/rolling_shutter.h"
 #include "ekf/measurement_model.h"
 #include "geometry/homography_pose.h"
 
@@ -48,11 +49,12 @@ constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is
 }  // namespace
 
 BoardCornerMeasurer::BoardCornerMeasurer(const CameraModel& camera, const ChessboardTarget& target,
-                                         const BoardCornerMeasurementOptions& options)
+                                         const BoardCornerMeasurementOptions& options, double rolling_shutter_readout)
     : camera_(camera),
       target_(target),
       corners_world_(target.cornersWorld()),
       options_(options),
+      readout_(rolling_shutter_readout),
       noise_(options.noise, options.pixel_sigma),
       detector_(target, options.detector, options.presence) {}
 
@@ -60,6 +62,12 @@ void BoardCornerMeasurer::reset() {
   tracked_ids_.clear();
   tracked_uv_.clear();
 }
+
+void BoardCornerMeasurer::setMotionNoise(const MotionModelOptions& motion) {
+  rolling_shutter_sigma_ = readout_ > 0 ? rollingShutterPixelSigma(camera_, readout_, motion) : 0.0;
+}
+
+double BoardCornerMeasurer::pixelSigma() const { return std::max(noise_.pixelSigma(), rolling_shutter_sigma_); }
 
 std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(const EkfState& state,
                                                                                const cv::Mat& grey) const {
@@ -69,7 +77,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     CornerPrediction& p = pred[i];
     PointMeasurement next;  // the next corner along the row, for the square's size in pixels
     const Vec3 along = corners_world_[i] + Vec3(target_.square_size, 0, 0);
-    if (!predictMeasurement(camera_, state.r(), state.q(), corners_world_[i], &p.h, kMinCornerDepth) ||
+    if (!predictAtRowTime(camera_, readout_, state.x().head<13>(), corners_world_[i], &p.h, kMinCornerDepth) ||
         !predictMeasurement(camera_, state.r(), state.q(), along, &next, kMinCornerDepth))
       continue;
     const Vec2& uv = p.h.uv_distorted;
@@ -80,7 +88,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     p.in_image = uv.x() >= border && uv.y() >= border && uv.x() <= grey.cols - 1 - border &&
                  uv.y() <= grey.rows - 1 - border;
     if (!p.in_image) continue;
-    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, noise_.pixelSigma());
+    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, pixelSigma());
     p.half_axis_px = 3.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat2>(p.S).eigenvalues()(1)));
   }
   return pred;
@@ -311,11 +319,12 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
 bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) const {
   const Relinearise predict_at = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* observations) {
     for (size_t k = 0; k < observations->size(); ++k)
-      if (!predictMeasurement(camera_, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), corners_world_[m->corner_ids[k]], &(*observations)[k].h, kMinCornerDepth))
+      if (!predictAtRowTime(camera_, readout_, x.head<13>(), corners_world_[m->corner_ids[k]], &(*observations)[k].h,
+                            kMinCornerDepth))
         return false;
     return true;
   };
-  return iteratedUpdate(state, &m->observations, noise_.pixelSigma(), predict_at);
+  return iteratedUpdate(state, &m->observations, pixelSigma(), predict_at);
 }
 
 void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {

@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "core/chessboard.h"
 #include "core/target.h"
+#include "ekf/ekf_options.h"
 #include "ekf/ekf_state.h"
 #include "ekf/ekf_update.h"
 #include "ekf/measurement_model.h"
@@ -100,8 +101,10 @@ struct BoardCornerMeasurement {
 
 class BoardCornerMeasurer {
  public:
+  // rolling_shutter_readout (s, ActiveSearchOptions'): each corner is predicted where its row is
+  // read (ekf/rolling_shutter.h's predictAtRowTime); 0, a global shutter.
   BoardCornerMeasurer(const CameraModel& camera, const ChessboardTarget& target,
-                      const BoardCornerMeasurementOptions& options);
+                      const BoardCornerMeasurementOptions& options, double rolling_shutter_readout = 0);
 
   // The corners measured in `grey` given the filter's prior `state` (not changed). Remembers what
   // it kept for the next frame's tracking.
@@ -117,6 +120,9 @@ class BoardCornerMeasurer {
   bool update(EkfState& state, BoardCornerMeasurement* m) const;
   // Forget the tracked corners (a restart).
   void reset();
+  // With a rolling shutter, the motion noise of this frame's prediction: the corners' noise is then
+  // at least rollingShutterPixelSigma's (their rows' times predicted under constant velocities).
+  void setMotionNoise(const MotionModelOptions& motion);
   // The whole board anywhere in `grey` (SPEC order, distorted pixels), empty if none; skipped
   // where the presence test rules it out (tracking/board_presence).
   std::vector<cv::Point2f> searchWholeImage(const cv::Mat& grey);
@@ -163,6 +169,10 @@ class BoardCornerMeasurer {
   ChessboardTarget target_;
   std::vector<Vec3> corners_world_;
   BoardCornerMeasurementOptions options_;
+  double readout_ = 0;
+  // The corners' noise now: the estimate (CornerNoise), at least rolling_shutter_sigma_.
+  double pixelSigma() const;
+  double rolling_shutter_sigma_ = 0;  // pixels, setMotionNoise's
   std::vector<cv::Mat> pyramid_prev_;
   std::vector<int> tracked_ids_;
   std::vector<cv::Point2f> tracked_uv_;

@@ -81,7 +81,8 @@ struct HybridOptions {
     v("tracked_motion", tracked_motion, "features tracked over a sliding window of poses (MSCKF update) and as points");
     v("calibration", calibration, "self-calibration when no camera file is given");
   }
-  void check() const {}  // each field's struct checks itself (checkOptions)
+  // Each field's struct checks itself (checkOptions); this, what one field's value asks of another.
+  void check() const;
 };
 
 class HybridTracker : public Tracker {

@@ -8,6 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "ekf/rolling_shutter.h"
 #include "tests/ekf/plane_render.h"
 
 namespace slamcmp {
@@ -121,6 +122,7 @@ struct BoardReturn {
   std::vector<Vec3> corners;
   std::vector<Vec2> uv;
   EkfState prior;
+  double readout = 0;  // s; a rolling shutter's: each corner predicted at its row's time
   BoardReturn() {
     std::mt19937 rng(7);
     std::normal_distribution<double> noise(0.0, 0.05);
@@ -135,9 +137,7 @@ struct BoardReturn {
   }
   bool predict(const Eigen::VectorXd& x, std::vector<PointObservation>* observations) const {
     for (size_t k = 0; k < corners.size(); ++k)
-      if (!predictMeasurement(camera, x.segment<3>(EkfState::kR), x.segment<4>(EkfState::kQ), corners[k],
-                              &(*observations)[k].h))
-        return false;
+      if (!predictAtRowTime(camera, readout, x.head<13>(), corners[k], &(*observations)[k].h, 1e-3)) return false;
     return true;
   }
   std::vector<PointObservation> observations() const {
@@ -218,6 +218,49 @@ TEST(EkfUpdate, OneIterationIsTheBatchUpdateWithFewCornersAndTheFiltersCovarianc
               -1e-12 * iterated.P().norm())
         << corners << " corners";
   }
+}
+
+// Corners seen at their rows' times depend on the velocities too: S over all 13 camera entries, and
+// the iterated update's first step, are the dense formulas' with the full H, and the velocities
+// learn from the corners.
+TEST(EkfUpdate, CornersAtTheirRowsTimesUpdateTheVelocitiesAsTheDenseFormula) {
+  BoardReturn b;
+  b.readout = 0.03;
+  b.prior.x().segment<3>(EkfState::kV) = Vec3(0.1, -0.2, 0.05);
+  b.prior.x().segment<3>(EkfState::kW) = Vec3(0.5, 1.0, -0.3);
+  // After a prediction: the velocities 0.1 m/s and 0.2 rad/s uncertain, correlated with the pose.
+  b.prior.P().diagonal().segment<3>(EkfState::kV).setConstant(0.01);
+  b.prior.P().diagonal().segment<3>(EkfState::kW).setConstant(0.04);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(13, 13) * 0.01;
+  b.prior.P() += A * A.transpose();
+  b.prior.renormaliseQuaternion();
+  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(3, b.prior.size());
+  cross.leftCols<3>() = 0.5 * 0.1 * 0.1 * Mat3::Identity();
+  b.prior.append(Vec3(0.1, -0.05, 0.5), Mat3::Identity() * 0.02, cross);
+  const std::vector<PointObservation> obs = b.observations();
+  ASSERT_TRUE(obs[0].h.row_timed);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * obs.size(), b.prior.size());
+  Eigen::VectorXd nu(H.rows());
+  for (size_t k = 0; k < obs.size(); ++k) {
+    H.block<2, 13>(2 * k, 0) << obs[k].h.H_r, obs[k].h.H_q, obs[k].h.H_v, obs[k].h.H_w;
+    nu.segment<2>(2 * k) = obs[k].z - obs[k].h.uv_distorted;
+  }
+  const double sigma = 0.05;
+  const Eigen::MatrixXd S = H * b.prior.P() * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(H.rows(), H.rows());
+  EXPECT_LT((innovationCovariance(b.prior, obs, sigma) - S).norm(), 1e-9 * S.norm());
+  EXPECT_LT((pointInnovationCovariance(b.prior, obs[5].h, kKnownPoint, sigma) - S.block<2, 2>(10, 10)).norm(),
+            1e-9 * S.norm());
+  const Eigen::MatrixXd K = b.prior.P() * H.transpose() * S.inverse();
+  const Eigen::VectorXd step = K * nu;
+
+  const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
+  EkfState iterated = b.prior;
+  std::vector<PointObservation> observations = obs;
+  ASSERT_TRUE(iteratedUpdate(iterated, &observations, sigma, relinearise, 1));
+  // S (108 x 108) spans 1e-5 to 1e4 px^2: both factorisations round to about 1e-4 of the step.
+  EXPECT_LT((iterated.x() - b.prior.x() - step).norm(), 1e-3 * step.norm());
+  EXPECT_LT((iterated.P() - (b.prior.P() - K * S * K.transpose())).norm(), 1e-3 * (K * S * K.transpose()).norm());
+  EXPECT_GT((iterated.w() - b.prior.w()).norm(), 1e-3) << "the angular velocity moves";
 }
 
 // A camera covariance broken by round-off (negative position variances) makes S indefinite: the

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "ekf/ekf_state.h"
+#include "ekf/ekf_update.h"
 #include "tests/ekf/plane_render.h"
 #include "tests/test_util.h"
 
@@ -73,6 +77,98 @@ TEST(RollingShutter, PixelAtFrameTimeUndoesTheTurnOverTheRowsTime) {
     EXPECT_LT((pixelAtFrameTime(camera, kReadout, x.segment<3>(EkfState::kW), rolled) - frame_time).norm(), 1e-6);
     EXPECT_EQ(pixelAtFrameTime(camera, 0.0, x.segment<3>(EkfState::kW), rolled), rolled);
   }
+}
+
+// A known point is predicted where the rolling shutter images it, to the fixed point's 1e-4 px.
+TEST(RollingShutter, KnownPointIsPredictedWhereItsRowIsRead) {
+  const CameraModel camera = test::testCamera();
+  for (const Vec3& y : {Vec3(0.3, 0.1, 0.2), Vec3(-0.1, -0.3, 0.3), Vec3(0.2, 0.2, 0.1), Vec3(0.05, 0.15, 0.0)}) {
+    const Eigen::VectorXd x = movingCamera(y);
+    PointMeasurement h;
+    ASSERT_TRUE(predictAtRowTime(camera, kReadout, x.head<13>(), y, &h, 1e-3));
+    EXPECT_TRUE(h.row_timed);
+    EXPECT_LT((h.uv_distorted - rolledProjection(camera, x, y)).norm(), 1e-3) << y.transpose();
+    PointMeasurement frame_time;
+    ASSERT_TRUE(predictAtRowTime(camera, 0.0, x.head<13>(), y, &frame_time, 1e-3));
+    EXPECT_FALSE(frame_time.row_timed);
+    EXPECT_LT((frame_time.uv_distorted - camera.project(cameraAt(x, 0).inverse() * y)).norm(), 1e-9);
+  }
+}
+
+// d h / d (r, q, v, w) and d h / d y against central differences of the whole prediction, the
+// row's own dependence on the state included.
+TEST(RollingShutter, KnownPointJacobiansMatchNumericDifferences) {
+  const CameraModel camera = test::testCamera();
+  for (const Vec3& y : {Vec3(0.3, 0.1, 0.2), Vec3(-0.1, -0.3, 0.3), Vec3(0.2, 0.2, 0.1)}) {
+    const Eigen::VectorXd x = movingCamera(y);
+    PointMeasurement h;
+    ASSERT_TRUE(predictAtRowTime(camera, kReadout, x.head<13>(), y, &h, 1e-3));
+    Eigen::Matrix<double, 2, 16> analytic;
+    analytic << h.H_r, h.H_q, h.H_v, h.H_w, h.H_y;
+    const auto predicted = [&](const Eigen::VectorXd& x_perturbed) {
+      PointMeasurement p;
+      EXPECT_TRUE(predictAtRowTime(camera, kReadout, x_perturbed.head<13>(), x_perturbed.segment<3>(13), &p, 1e-3));
+      return p.uv_distorted;
+    };
+    const double step = 1e-6;
+    for (int i = 0; i < 16; ++i) {
+      Eigen::VectorXd plus = x, minus = x;
+      plus(i) += step;
+      minus(i) -= step;
+      const Vec2 numeric = (predicted(plus) - predicted(minus)) / (2 * step);
+      EXPECT_LT((numeric - analytic.col(i)).norm(), 1e-3 * std::max(1.0, numeric.norm())) << "entry " << i;
+    }
+    // The velocities matter: a pixel or more per m/s or rad/s at this readout.
+    EXPECT_GT(h.H_w.norm(), 1.0);
+  }
+}
+
+// Corners of a plane under a turning camera's rolling shutter carry its angular velocity: the
+// known-point update over (r, q, v, w) finds it, to the corners' noise, from a prior a fifth off.
+TEST(RollingShutter, KnownPointsAtTheirRowsTimesMeasureTheAngularVelocity) {
+  const CameraModel camera = test::testCamera();
+  Eigen::VectorXd truth = movingCamera(Vec3::Zero()).head<13>();
+  EkfState state;
+  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
+  P0.diagonal() << Vec3::Constant(1e-6), Vec4::Constant(1e-6), Vec3::Constant(0.01), Vec3::Constant(0.25);
+  state.reset(SE3(quatFromVector(truth.segment<4>(EkfState::kQ)), Vec3(truth.segment<3>(EkfState::kR))), P0);
+  state.x().segment<3>(EkfState::kV) = truth.segment<3>(EkfState::kV);
+  state.x().segment<3>(EkfState::kW) = 0.8 * truth.segment<3>(EkfState::kW);
+  std::vector<Vec3> corners;
+  std::vector<PointObservation> observations;
+  for (int j = -3; j <= 3; ++j)
+    for (int i = -4; i <= 4; ++i) {
+      const Vec3 p_world(0.1 * i, 0.08 * j, 0.1);
+      PointObservation o;
+      o.offset = kKnownPoint;
+      o.z = rolledProjection(camera, truth, p_world);
+      if (!camera.inImage(o.z, 5)) continue;
+      ASSERT_TRUE(predictAtRowTime(camera, kReadout, state.x().head<13>(), p_world, &o.h, 1e-3));
+      corners.push_back(p_world);
+      observations.push_back(o);
+    }
+  ASSERT_GT(observations.size(), 30u);
+  const Relinearise at = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* obs) {
+    for (size_t k = 0; k < obs->size(); ++k)
+      if (!predictAtRowTime(camera, kReadout, x.head<13>(), corners[k], &(*obs)[k].h, 1e-3)) return false;
+    return true;
+  };
+  ASSERT_TRUE(iteratedUpdate(state, &observations, 0.01, at));
+  EXPECT_LT((state.w() - truth.segment<3>(EkfState::kW)).norm(), 0.01 * truth.segment<3>(EkfState::kW).norm());
+  for (const PointObservation& o : observations) EXPECT_LT((o.z - o.h.uv_distorted).norm(), 0.01);
+}
+
+// The motion model's own turn over half the readout, seen through the focal length.
+TEST(RollingShutter, PixelSigmaIsTheMotionNoisesTurnOverHalfTheReadout) {
+  const CameraModel camera = test::testCamera();
+  MotionModelOptions motion;
+  motion.sigma_alpha = 3.0;
+  motion.reference_rate = 30.0;
+  const double f = 0.5 * (camera.fx + camera.fy);
+  EXPECT_NEAR(rollingShutterPixelSigma(camera, kReadout, motion), f * std::sqrt(0.3 * std::pow(0.015, 3) / 3), 1e-12);
+  EXPECT_EQ(rollingShutterPixelSigma(camera, 0.0, motion), 0.0);
+  motion.sigma_alpha = 1.0;  // as sigma_alpha, and as readout^1.5
+  EXPECT_NEAR(rollingShutterPixelSigma(camera, kReadout, motion) * 3, f * std::sqrt(0.3 * std::pow(0.015, 3) / 3), 1e-12);
 }
 
 }  // namespace
