@@ -43,6 +43,7 @@ bool predictInverseDepthMeasurement(const CameraModel& camera, const Vec3& r, co
   Mat23 J_p;
   out->uv_distorted = camera.project(d_camera, &J_p);
   out->p_camera = d_camera / std::max(rho, 1e-3);  // as inverseDepthPoint: far, for rho <= 0
+  out->row_timed = false;
   const Mat23 J_pw = J_p * rotationFromQuat(q).transpose();  // d h / d d_world
   out->H_r = -rho * J_pw;
   out->H_q = J_p * J_q;

@@ -45,9 +45,16 @@ double rollingShutterPixelSigma(const CameraModel& camera, double readout, const
 
 bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera, const Vec3& p_world,
                       PointMeasurement* h, double min_depth) {
-  if (!predictMeasurement(camera, x_camera.segment<3>(EkfState::kR), x_camera.segment<4>(EkfState::kQ), p_world, h,
-                          min_depth))
-    return false;
+  return predictAtRowTime(
+      camera, readout, x_camera,
+      [&](const Vec3& r, const Vec4& q, PointMeasurement* at) { return predictMeasurement(camera, r, q, p_world, at, min_depth); },
+      h);
+}
+
+bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera,
+                      const PredictFromPose& predict, PointMeasurement* h) {
+  if (!predict(x_camera.segment<3>(EkfState::kR), x_camera.segment<4>(EkfState::kQ), h)) return false;
+  h->row_timed = false;
   if (readout <= 0) return true;
   // Each step moves the row by about (d v / d tau) * readout / height times the last step's move
   // (0.03 for a feature moving 500 px/s under a 30 ms readout).
@@ -58,9 +65,7 @@ bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVec
   double row = h->uv_distorted.y();
   for (int step = 0; step < kMaxSteps; ++step) {
     at_row = predictCamera(x_camera, camera.rowTime(readout, row), Eigen::Matrix<double, 6, 1>::Zero(), &F);
-    if (!predictMeasurement(camera, at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), p_world, h,
-                            min_depth))
-      return false;
+    if (!predict(at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), h)) return false;
     const double moved = std::abs(h->uv_distorted.y() - row);
     row = h->uv_distorted.y();
     if (moved < kRowTolerancePx) break;

@@ -1,16 +1,20 @@
 #pragma once
 // A rolling shutter reads the image row by row (CameraModel::rowTime: the middle row at the frame's
-// time), while the camera moves on. The filter's state is the
-// camera at the frame's time; with its constant velocities it predicts where each feature is when
-// its row is read, searches there, and takes the match back to the frame's time by the same shift
-// (the measurement model stays the frame-time projection: the shift's dependence on the velocities
-// is neither in the search ellipse nor in the update, so the velocities learn nothing from it).
-// Depth-particle rays (a board-started monoslam's new features) and hybrid's tracked points are
-// compared as read. Known points (hybrid's board corners, 0.01 px exact) are predicted at their
-// rows' times instead, with the velocities in their Jacobians (predictAtRowTime): a shift taken back
-// with the velocities held would carry the velocities' error, 80 times the corners' noise. A hand-held camera turning 1 rad/s with a 30 ms readout moves a
-// feature up to 8 px between its frame-time and row-time images: a filter that ignores it turns
-// 5 % too far (docs/findings.md, session 29).
+// time), while the camera moves on; a hand-held camera turning 1 rad/s with a 30 ms readout moves a
+// feature up to 8 px between its frame-time and row-time images, and a filter that ignores it
+// turns 5 % too far (docs/findings.md, session 29). The filter's state is the camera at the
+// frame's time, and its constant velocities say where the camera is when a row is read:
+// - the map's patch features (1 px) are searched where that puts them and the match is taken back
+//   to the frame's time by the same shift (rollingShutterShift; the update stays the frame-time
+//   projection, so the velocities learn nothing from it);
+// - hybrid's board corners (0.01 px) and tracked points are predicted at their rows' times, with
+//   the velocities in their Jacobians (predictAtRowTime): a shift taken back with the velocities
+//   held would carry the velocities' error, 80 times the corners' noise;
+// - new features' pixels, and the pixels of hybrid's tracks in its window, are turned back to the
+//   frame's time by the camera's turn alone (pixelAtFrameTime).
+// Depth-particle rays (a board-started monoslam's new features) are compared as read.
+#include <functional>
+
 #include <Eigen/Core>
 
 #include "core/camera.h"
@@ -47,5 +51,12 @@ double rollingShutterPixelSigma(const CameraModel& camera, double readout, const
 // where it cannot be predicted (closer than min_depth).
 bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera, const Vec3& p_world,
                       PointMeasurement* h, double min_depth);
+
+// The same for any point a camera pose predicts: predict(r, q, h) fills h (with H_r, H_q, H_y) as
+// seen from the camera at (r, q), false where it cannot (an inverse-depth point, hybrid's tracked
+// points: ekf/inverse_depth.h).
+using PredictFromPose = std::function<bool(const Vec3& r, const Vec4& q, PointMeasurement* h)>;
+bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVector& x_camera,
+                      const PredictFromPose& predict, PointMeasurement* h);
 
 }  // namespace slamcmp

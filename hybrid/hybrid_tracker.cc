@@ -17,15 +17,6 @@ void HybridStartOptions::check() const {
     if (!(sigma > 0 && sigma < 100)) throw OptionError(field, "must be a standard deviation in (0, 100)");
 }
 
-void HybridOptions::check() const {
-  // The tracks' window clones frame-time poses and compares its tracks as the rows show them: on
-  // handheld_rpy through a 30 ms shutter they pull the filter 25-27 mm off (2.2-2.8 mm without).
-  if (filter.search.rolling_shutter_readout > 0 && tracked_motion.enabled)
-    throw OptionError("tracked_motion.enabled",
-                      "the tracked features do not model a rolling shutter: set it to 0 with search.rolling_shutter_readout "
-                      "(configs/hybrid_rolling_shutter.yaml)");
-}
-
 HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions& options)
     : options_(options),
       image_size_(context.image_size),
@@ -48,7 +39,8 @@ void HybridTracker::startFilter(const CameraModel& camera) {
       camera, options_.filter);
   corners_ = std::make_unique<BoardCornerMeasurer>(camera, target_, options_.corners,
                                                    options_.filter.search.rolling_shutter_readout);
-  motion_ = std::make_unique<TrackedMotion>(camera, options_.tracked_motion, corners_->lkWindow(), corners_->lkLevels());
+  motion_ = std::make_unique<TrackedMotion>(camera, options_.tracked_motion, corners_->lkWindow(), corners_->lkLevels(),
+                                            options_.filter.search.rolling_shutter_readout);
 }
 
 nlohmann::json HybridTracker::options() const {

@@ -81,8 +81,7 @@ struct HybridOptions {
     v("tracked_motion", tracked_motion, "features tracked over a sliding window of poses (MSCKF update) and as points");
     v("calibration", calibration, "self-calibration when no camera file is given");
   }
-  // Each field's struct checks itself (checkOptions); this, what one field's value asks of another.
-  void check() const;
+  void check() const {}  // each field's struct checks itself (checkOptions)
 };
 
 class HybridTracker : public Tracker {

@@ -1,6 +1,7 @@
 #include "hybrid/tracked_motion.h"
 
 #include "core/error.h"
+#include "ekf/rolling_shutter.h"
 
 namespace slamcmp {
 
@@ -24,13 +25,18 @@ constexpr TailLayout::Kind kClone = TailLayout::Kind::kClone;
 }  // namespace
 
 TrackedMotion::TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window,
-                             int lk_levels)
+                             int lk_levels, double rolling_shutter_readout)
     : camera_(camera),
       options_(options),
       lk_window_(lk_window),
       lk_levels_(lk_levels),
+      readout_(rolling_shutter_readout),
       tracker_(options.tracks),
-      points_(camera, options.points, options.gate_probability, lk_window, lk_levels) {}
+      points_(camera, options.points, options.gate_probability, lk_window, lk_levels, rolling_shutter_readout) {}
+
+Vec2 TrackedMotion::atFrameTime(const EkfState& state, const Feature& f) const {
+  return pixelAtFrameTime(camera_, readout_, state.w(), Vec2(f.uv.x, f.uv.y));
+}
 
 void TrackedMotion::reset(EkfState& state) {
   tail_.clear(state);
@@ -70,7 +76,7 @@ int TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vecto
   clones_.push_back(next_clone_++);
   tail_.push(kClone, clones_.back(), kCloneDim);
   for (const Feature& f : tracker_.features())
-    if (!points_.holds(f.id)) seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
+    if (!points_.holds(f.id)) seen_[f.id].emplace_back(clones_.back(), atFrameTime(state, f));
 
   // The tracks that ended, and those as long as the window (their next frame would lose the
   // oldest clone). A track that goes on starts its next stretch at its last observation: each
@@ -107,7 +113,7 @@ int TrackedMotion::update(EkfState& state, const cv::Mat& grey, const std::vecto
   tracker_.replenish(grey);
   for (size_t k = before; k < tracker_.features().size(); ++k) {
     const Feature& f = tracker_.features()[k];
-    seen_[f.id].emplace_back(clones_.back(), Vec2(f.uv.x, f.uv.y));
+    seen_[f.id].emplace_back(clones_.back(), atFrameTime(state, f));
   }
   for (const int id : points_.start(state, tail_, tracker_.features(), pyramid))
     seen_.erase(id);  // its observations are the point's from now on

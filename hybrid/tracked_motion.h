@@ -88,7 +88,10 @@ struct TrackedMotionOptions {
 class TrackedMotion {
  public:
   // Tracks by Lucas-Kanade over pyramids built for lk_window and lk_levels.
-  TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window, int lk_levels);
+  // rolling_shutter_readout (s): the tracks' pixels turned back to their frames' times by the filter's
+  // angular velocity (ekf/rolling_shutter.h), the points predicted where their rows are read.
+  TrackedMotion(const CameraModel& camera, const TrackedMotionOptions& options, cv::Size lk_window, int lk_levels,
+                double rolling_shutter_readout = 0);
 
   // After the frame's other updates, before the map grows or shrinks: the tracks followed into
   // `grey` (its `pyramid`; started where the filter's rotation since the last clone puts them),
@@ -103,10 +106,15 @@ class TrackedMotion {
   void reset(EkfState& state);
 
  private:
+  // A track's pixel in this frame as the camera at the frame's time sees it (its turn over the
+  // row's time undone; a global shutter's as it is).
+  Vec2 atFrameTime(const EkfState& state, const Feature& f) const;
+
   CameraModel camera_;
   TrackedMotionOptions options_;
   cv::Size lk_window_;
   int lk_levels_;
+  double readout_ = 0;
   FeatureTracker tracker_;
   std::vector<cv::Mat> pyramid_previous_;
   TailLayout tail_;

@@ -9,6 +9,7 @@
 #include "ekf/ekf_update.h"
 #include "ekf/inverse_depth.h"
 #include "ekf/joint_compatibility.h"
+#include "ekf/rolling_shutter.h"
 
 namespace slamcmp {
 
@@ -26,10 +27,11 @@ void TrackedPointsOptions::check() const {
 }
 
 TrackedPoints::TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, double gate_probability,
-                             cv::Size lk_window, int lk_levels)
+                             cv::Size lk_window, int lk_levels, double rolling_shutter_readout)
     : camera_(camera),
       options_(options),
       gate_(chiSquaredQuantile(2, gate_probability)),
+      readout_(rolling_shutter_readout),
       lk_window_(lk_window),
       lk_levels_(lk_levels) {}
 
@@ -88,7 +90,12 @@ int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<
     PointObservation o;
     o.offset = tail.offset(state, kPoint, id);
     if (it == found.end() ||  // track ended, first image no longer alike (it starts again), or behind
-        !predictInverseDepthMeasurement(camera_, state.r(), state.q(), state.x().segment<6>(o.offset), &o.h)) {
+        !predictAtRowTime(
+            camera_, readout_, state.x().head<13>(),
+            [&](const Vec3& r, const Vec4& q, PointMeasurement* h) {
+              return predictInverseDepthMeasurement(camera_, r, q, state.x().segment<6>(o.offset), h);
+            },
+            &o.h)) {
       drop.push_back(id);
       continue;
     }
@@ -116,8 +123,9 @@ std::vector<int> TrackedPoints::start(EkfState& state, TailLayout& tail, const s
   for (const Feature& f : features) {
     if (static_cast<int>(points_.size()) >= options_.max) break;
     if (holds(f.id) || refused_.count(f.id)) continue;
-    const StateBlock block = inverseDepthFeature(state, camera_, Vec2(f.uv.x, f.uv.y), options_.pixel_sigma,
-                                                 options_.rho, options_.rho_sigma);
+    const StateBlock block =
+        inverseDepthFeature(state, camera_, pixelAtFrameTime(camera_, readout_, state.w(), Vec2(f.uv.x, f.uv.y)),
+                            options_.pixel_sigma, options_.rho, options_.rho_sigma);
     state.appendToTail(block.value, block.P_block, block.P_block_rest);
     tail.push(kPoint, f.id, static_cast<int>(block.value.size()));
     points_[f.id] = {frame_, f.uv, rotationFromQuat(state.q())};

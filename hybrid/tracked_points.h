@@ -51,8 +51,10 @@ struct TrackedPointsOptions {
 class TrackedPoints {
  public:
   // Each point's innovation is gated at gate_probability (chi-squared, 2 dof).
+  // rolling_shutter_readout (s): each point predicted where its row is read (ekf/rolling_shutter.h),
+  // a new one's first pixel turned back to its frame's time; 0, a global shutter.
   TrackedPoints(const CameraModel& camera, const TrackedPointsOptions& options, double gate_probability,
-                cv::Size lk_window, int lk_levels);
+                cv::Size lk_window, int lk_levels, double rolling_shutter_readout = 0);
 
   // The points measured where this frame's tracks (`features`, in `pyramid`) and their first
   // images put them, gated one by one and updated together. Removed: those whose track ended,
@@ -81,6 +83,7 @@ class TrackedPoints {
   CameraModel camera_;
   TrackedPointsOptions options_;
   double gate_;  // chi-squared, 2 dof
+  double readout_ = 0;
   cv::Size lk_window_;
   int lk_levels_;
   std::unordered_map<int, Point> points_;            // by track id

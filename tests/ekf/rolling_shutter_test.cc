@@ -7,6 +7,7 @@
 
 #include "ekf/ekf_state.h"
 #include "ekf/ekf_update.h"
+#include "ekf/inverse_depth.h"
 #include "tests/ekf/plane_render.h"
 #include "tests/test_util.h"
 
@@ -120,6 +121,51 @@ TEST(RollingShutter, KnownPointJacobiansMatchNumericDifferences) {
     }
     // The velocities matter: a pixel or more per m/s or rad/s at this readout.
     EXPECT_GT(h.H_w.norm(), 1.0);
+  }
+}
+
+// Any point a pose predicts (here an inverse-depth one, as hybrid's tracked points) is predicted at
+// its row's time as a known point is, and its Jacobians, H_y's six columns included, match central
+// differences.
+TEST(RollingShutter, InverseDepthPointIsPredictedWhereItsRowIsRead) {
+  const CameraModel camera = test::testCamera();
+  const Vec3 x0(0.05, -0.02, -1.0);  // the centre of the camera that first saw it
+  for (const Vec3& p : {Vec3(0.3, 0.1, 0.2), Vec3(-0.1, -0.3, 0.3), Vec3(0.2, 0.2, 0.1)}) {
+    const Vec3 d = p - x0;
+    const Vec3 m = d.normalized();
+    Vec6 y;
+    y << x0, std::atan2(m.x(), m.z()), -std::asin(m.y()), 1.0 / d.norm();
+    const Eigen::VectorXd x = movingCamera(p);
+    const auto predict = [&](const Eigen::VectorXd& x_camera, const Vec6& y_point, PointMeasurement* h) {
+      return predictAtRowTime(
+          camera, kReadout, x_camera.head<13>(),
+          [&](const Vec3& r, const Vec4& q, PointMeasurement* at) {
+            return predictInverseDepthMeasurement(camera, r, q, y_point, at);
+          },
+          h);
+    };
+    PointMeasurement h;
+    ASSERT_TRUE(predict(x, y, &h));
+    EXPECT_TRUE(h.row_timed);
+    EXPECT_LT((h.uv_distorted - rolledProjection(camera, x, p)).norm(), 1e-3) << p.transpose();
+    Eigen::Matrix<double, 2, 19> analytic;
+    analytic << h.H_r, h.H_q, h.H_v, h.H_w, h.H_y;
+    const double step = 1e-6;
+    for (int i = 0; i < 19; ++i) {
+      Eigen::VectorXd x_plus = x.head<13>(), x_minus = x.head<13>();
+      Vec6 y_plus = y, y_minus = y;
+      if (i < 13) {
+        x_plus(i) += step;
+        x_minus(i) -= step;
+      } else {
+        y_plus(i - 13) += step;
+        y_minus(i - 13) -= step;
+      }
+      PointMeasurement plus, minus;
+      ASSERT_TRUE(predict(x_plus, y_plus, &plus) && predict(x_minus, y_minus, &minus));
+      const Vec2 numeric = (plus.uv_distorted - minus.uv_distorted) / (2 * step);
+      EXPECT_LT((numeric - analytic.col(i)).norm(), 1e-3 * std::max(1.0, numeric.norm())) << "entry " << i;
+    }
   }
 }
 
