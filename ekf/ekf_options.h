@@ -75,7 +75,8 @@ struct ActiveSearchOptions {
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   // A rolling shutter's readout, seconds from the top row's read to the bottom row's (0: a global
   // shutter; ekf/rolling_shutter.h): the map's patch features are searched where their rows are
-  // read, and hybrid's board corners and tracked features are predicted there. On handheld_rpy
+  // read, hybrid's board corners and tracked points are predicted there, and its window's tracks
+  // are turned back to the frame's time by the camera's turn. On handheld_rpy
   // rendered with a 30 ms shutter it takes monoslam's orientation error from 3.8-5.6 to 1.4-2.4
   // degrees and hybrid's ATE from 96 to 3.3-4.1 mm; on tum_fr1_rpy no value helps (README).
   double rolling_shutter_readout = 0.0;
@@ -99,7 +100,8 @@ struct ActiveSearchOptions {
     v("rolling_shutter_readout", rolling_shutter_readout,
       "seconds from reading the image's top row to its bottom row, the middle row at the frame's time "
       "(0: a global shutter); each map feature (patches, not depth-particle rays) is searched, and each of hybrid's "
-      "board corners and tracked features predicted, where the camera sees it when its row is read");
+      "board corners and tracked points predicted, where the camera sees it when its row is read; hybrid's window "
+      "tracks are turned back to the frame's time by the camera's turn");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // the crops fit in the image

@@ -13,12 +13,14 @@ namespace {
 constexpr int kPose = 7;     // r and q: the camera entries a measurement depends on (offsets 0..6)
 constexpr int kMoving = 13;  // and v, w for one seen at its row's time (PointMeasurement::row_timed)
 
-// d h / d camera over its first kCam entries.
+// d h / d camera over its first kCam entries (a frame-time observation in a batch with row-timed
+// ones: zero over v and w).
 template <int kCam>
 Eigen::Matrix<double, 2, kCam> cameraJacobian(const PointMeasurement& h) {
   Eigen::Matrix<double, 2, kCam> H;
   if constexpr (kCam == kPose) H << h.H_r, h.H_q;
-  else H << h.H_r, h.H_q, h.H_v, h.H_w;
+  else if (h.row_timed) H << h.H_r, h.H_q, h.H_v, h.H_w;
+  else H << h.H_r, h.H_q, Mat23::Zero(), Mat23::Zero();
   return H;
 }
 
@@ -74,10 +76,6 @@ void downdate(EkfState& state, const Eigen::MatrixXd& W) {
   for (int j = 1; j < state.size(); ++j) P.col(j).head(j) = P.row(j).head(j).transpose();
   state.renormaliseQuaternion();
 }
-
-}  // namespace
-
-namespace {
 
 template <int kCam>
 Mat2 pointInnovationCovarianceOver(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma) {

@@ -19,12 +19,14 @@ struct PointObservation {
 };
 
 // One point's innovation covariance H P H^T + pixel_sigma^2 I. H is non-zero only over the
-// camera's (r, q), which are contiguous, and the feature's y, so only those (7 + 3 or 6)^2
-// entries of P are read: O(1) whatever the map size.
+// camera's (r, q) (and v, w when h is row_timed: a rolling shutter's), which lead the state, and
+// the feature's y, so only those (7 or 13, + 3 or 6)^2 entries of P are read: O(1) whatever the
+// map size.
 Mat2 pointInnovationCovariance(const EkfState& state, const PointMeasurement& h, int offset, double pixel_sigma);
 
 // The joint innovation covariance of the stacked predictions (2m x 2m, observation i at rows 2i,
-// 2i+1), from the rows and columns of (r, q) and the m points only: O(m^2).
+// 2i+1), from the rows and columns of (r, q) (and v, w if one is row_timed) and the m points only:
+// O(m^2).
 Eigen::MatrixXd innovationCovariance(const EkfState& state, const std::vector<PointObservation>& observations,
                                      double pixel_sigma);
 
@@ -48,8 +50,9 @@ using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<Poi
 // x_{i+1} = x_0 + K_i (z - h(x_i) - H_i (x_0 - x_i)), with H_i and K_i = P H_i^T S_i^-1 at x_i,
 // until the camera moves by less than `tolerance` (metres, quaternion units) or after
 // `max_iterations` (below 1 is 1); P from the last K_i and H_i. One iteration is batchUpdate. For
-// known points alone, whose H touches only (r, q), the gain is formed in 7 x 7 (no 2m x 2m S)
-// and P's update has rank at most 7 where batchUpdate's has 2m: the same x and P up to rounding.
+// known points alone at the frame's time, whose H touches only (r, q), the gain is formed in 7 x 7
+// (no 2m x 2m S) and P's update has rank at most 7 where batchUpdate's has 2m: the same x and P up
+// to rounding; row-timed ones (over r, q, v, w) take batchUpdate's form.
 // It matters where the prior is far from the measurements compared with their noise (a board
 // found again after a drift: one linearisation there lands centimetres off). `observations`
 // leave with h at the updated state (where it can be predicted), so z - h are the update's

@@ -20,7 +20,7 @@ struct PointMeasurement {
   Mat24 H_q;  // d h / d q
   FeatureJacobian H_y;  // d h / d y (its columns: the feature's state size)
   // Seen at its row's time by a rolling shutter (rolling_shutter.h: predictAtRowTime), h depends on
-  // the velocities too: H_v = d h / d v, H_w = d h / d w, read only when row_timed.
+  // the velocities too: H_v = d h / d v, H_w = d h / d w, set (and read) only when row_timed.
   bool row_timed = false;
   Mat23 H_v;
   Mat23 H_w;

@@ -70,8 +70,8 @@ bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVec
     row = h->uv_distorted.y();
     if (moved < kRowTolerancePx) break;
   }
-  // h(x) = g(camera at tau(v), x) with v h's own row: dh = G dx + (dg/dtau) tau' dv, so
-  // (I - (dg/dtau) tau' e_v^T) dh = G dx with G = [H_r H_q] d(r, q)_row / d x.
+  // h(x) = g(camera at tau(row), x) with row h's own second coordinate: dh = G dx + (dg/dtau) tau'
+  // d row, so (I - (dg/dtau) tau' e_row^T) dh = G dx with G = [H_r H_q] d(r, q)_row / d x.
   Eigen::Matrix<double, 2, 7> H_pose;
   H_pose << h->H_r, h->H_q;
   const Eigen::Matrix<double, 2, 13> G = H_pose * F.topRows<7>();

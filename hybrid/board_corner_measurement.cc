@@ -11,8 +11,8 @@
 #include "core/error.h"
 #include "core/options.h"
 #include "core/subpixel_corner.h"
-#include "ekf/rolling_shutter.h"
 #include "ekf/measurement_model.h"
+#include "ekf/rolling_shutter.h"
 #include "geometry/homography_pose.h"
 
 namespace slamcmp {
@@ -78,7 +78,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     PointMeasurement next;  // the next corner along the row, for the square's size in pixels
     const Vec3 along = corners_world_[i] + Vec3(target_.square_size, 0, 0);
     if (!predictAtRowTime(camera_, readout_, state.x().head<13>(), corners_world_[i], &p.h, kMinCornerDepth) ||
-        !predictMeasurement(camera_, state.r(), state.q(), along, &next, kMinCornerDepth))
+        !predictAtRowTime(camera_, readout_, state.x().head<13>(), along, &next, kMinCornerDepth))
       continue;
     const Vec2& uv = p.h.uv_distorted;
     p.square_px = (next.uv_distorted - uv).norm();

@@ -153,6 +153,7 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   // correlations, the map; if they still disagree, the filter restarts from the board. An adapted
   // motion noise goes back to its set values.
   slam_->distrustMotion();
+  corners_->setMotionNoise(slam_->motionNoise());
   Eigen::MatrixXd& P = slam_->state().P();
   P.diagonal().segment<3>(EkfState::kR).array() += co.reanchor_position_sigma * co.reanchor_position_sigma;
   P.diagonal().segment<4>(EkfState::kQ).array() += co.reanchor_orientation_sigma * co.reanchor_orientation_sigma;

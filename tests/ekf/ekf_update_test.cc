@@ -263,6 +263,49 @@ TEST(EkfUpdate, CornersAtTheirRowsTimesUpdateTheVelocitiesAsTheDenseFormula) {
   EXPECT_GT((iterated.w() - b.prior.w()).norm(), 1e-3) << "the angular velocity moves";
 }
 
+// A row-timed point with a block in the state (hybrid's tracked points) batched with a frame-time
+// one (zero over v and w): S, one point's S with its cross terms, and the update are the dense
+// formulas' with the full H.
+TEST(EkfUpdate, RowTimedMapPointBesideAFrameTimeOneIsTheDenseFormula) {
+  BoardReturn b;
+  b.prior.x().segment<3>(EkfState::kW) = Vec3(0.5, 1.0, -0.3);
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(13, 13) * 0.01;
+  b.prior.P() += A * A.transpose();
+  b.prior.renormaliseQuaternion();
+  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(3, b.prior.size());
+  cross.leftCols<3>() = 0.5 * 0.1 * 0.1 * Mat3::Identity();
+  const int offset = b.prior.append(Vec3(0.1, -0.05, 0.5), Mat3::Identity() * 0.02, cross);
+  PointObservation row_timed, frame_time;
+  row_timed.offset = offset;
+  ASSERT_TRUE(predictAtRowTime(b.camera, 0.03, b.prior.x().head<13>(), Vec3(b.prior.x().segment<3>(offset)),
+                               &row_timed.h, 1e-3));
+  row_timed.z = row_timed.h.uv_distorted + Vec2(0.8, -0.4);
+  frame_time.offset = kKnownPoint;
+  ASSERT_TRUE(predictMeasurement(b.camera, b.prior.r(), b.prior.q(), b.corners[10], &frame_time.h));
+  frame_time.z = frame_time.h.uv_distorted + Vec2(-0.3, 0.5);
+  const std::vector<PointObservation> obs = {row_timed, frame_time};
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(4, b.prior.size());
+  H.block<2, 13>(0, 0) << row_timed.h.H_r, row_timed.h.H_q, row_timed.h.H_v, row_timed.h.H_w;
+  H.block<2, 3>(0, offset) = row_timed.h.H_y;
+  H.block<2, 7>(2, 0) << frame_time.h.H_r, frame_time.h.H_q;
+  Eigen::VectorXd nu(4);
+  nu << row_timed.z - row_timed.h.uv_distorted, frame_time.z - frame_time.h.uv_distorted;
+  const double sigma = 0.5;
+  const Eigen::MatrixXd S = H * b.prior.P() * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(4, 4);
+  EXPECT_LT((innovationCovariance(b.prior, obs, sigma) - S).norm(), 1e-9 * S.norm());
+  EXPECT_LT((pointInnovationCovariance(b.prior, row_timed.h, offset, sigma) - S.topLeftCorner<2, 2>()).norm(),
+            1e-9 * S.norm());
+  const Eigen::MatrixXd K = b.prior.P() * H.transpose() * S.inverse();
+  EkfState expected = b.prior;
+  expected.x() += K * nu;
+  expected.P() -= K * S * K.transpose();
+  expected.renormaliseQuaternion();
+  EkfState s = b.prior;
+  ASSERT_TRUE(batchUpdate(s, obs, sigma));
+  EXPECT_LT((s.x() - expected.x()).norm(), 1e-9 * (expected.x() - b.prior.x()).norm());
+  EXPECT_LT((s.P() - expected.P()).norm(), 1e-9 * b.prior.P().norm());
+}
+
 // A camera covariance broken by round-off (negative position variances) makes S indefinite: the
 // iterated update of known points refuses it as the batch update does, and leaves the state.
 TEST(EkfUpdate, IteratedUpdateRefusesAnIndefiniteCameraCovariance) {

@@ -101,24 +101,17 @@ TEST(RollingShutter, KnownPointIsPredictedWhereItsRowIsRead) {
 TEST(RollingShutter, KnownPointJacobiansMatchNumericDifferences) {
   const CameraModel camera = test::testCamera();
   for (const Vec3& y : {Vec3(0.3, 0.1, 0.2), Vec3(-0.1, -0.3, 0.3), Vec3(0.2, 0.2, 0.1)}) {
-    const Eigen::VectorXd x = movingCamera(y);
+    const Eigen::VectorXd x = movingCamera(y);  // the camera's 13 entries, then the point
     PointMeasurement h;
     ASSERT_TRUE(predictAtRowTime(camera, kReadout, x.head<13>(), y, &h, 1e-3));
     Eigen::Matrix<double, 2, 16> analytic;
     analytic << h.H_r, h.H_q, h.H_v, h.H_w, h.H_y;
-    const auto predicted = [&](const Eigen::VectorXd& x_perturbed) {
+    const auto predicted = [&](const Eigen::VectorXd& x_perturbed) -> Eigen::VectorXd {
       PointMeasurement p;
       EXPECT_TRUE(predictAtRowTime(camera, kReadout, x_perturbed.head<13>(), x_perturbed.segment<3>(13), &p, 1e-3));
       return p.uv_distorted;
     };
-    const double step = 1e-6;
-    for (int i = 0; i < 16; ++i) {
-      Eigen::VectorXd plus = x, minus = x;
-      plus(i) += step;
-      minus(i) -= step;
-      const Vec2 numeric = (predicted(plus) - predicted(minus)) / (2 * step);
-      EXPECT_LT((numeric - analytic.col(i)).norm(), 1e-3 * std::max(1.0, numeric.norm())) << "entry " << i;
-    }
+    test::expectJacobianMatchesNumeric(predicted, x, analytic, 1e-4);
     // The velocities matter: a pixel or more per m/s or rad/s at this readout.
     EXPECT_GT(h.H_w.norm(), 1.0);
   }
@@ -150,22 +143,14 @@ TEST(RollingShutter, InverseDepthPointIsPredictedWhereItsRowIsRead) {
     EXPECT_LT((h.uv_distorted - rolledProjection(camera, x, p)).norm(), 1e-3) << p.transpose();
     Eigen::Matrix<double, 2, 19> analytic;
     analytic << h.H_r, h.H_q, h.H_v, h.H_w, h.H_y;
-    const double step = 1e-6;
-    for (int i = 0; i < 19; ++i) {
-      Eigen::VectorXd x_plus = x.head<13>(), x_minus = x.head<13>();
-      Vec6 y_plus = y, y_minus = y;
-      if (i < 13) {
-        x_plus(i) += step;
-        x_minus(i) -= step;
-      } else {
-        y_plus(i - 13) += step;
-        y_minus(i - 13) -= step;
-      }
-      PointMeasurement plus, minus;
-      ASSERT_TRUE(predict(x_plus, y_plus, &plus) && predict(x_minus, y_minus, &minus));
-      const Vec2 numeric = (plus.uv_distorted - minus.uv_distorted) / (2 * step);
-      EXPECT_LT((numeric - analytic.col(i)).norm(), 1e-3 * std::max(1.0, numeric.norm())) << "entry " << i;
-    }
+    Eigen::VectorXd xy(19);
+    xy << x.head<13>(), y;
+    const auto predicted = [&](const Eigen::VectorXd& at) -> Eigen::VectorXd {
+      PointMeasurement p;
+      EXPECT_TRUE(predict(at.head<13>(), at.tail<6>(), &p));
+      return p.uv_distorted;
+    };
+    test::expectJacobianMatchesNumeric(predicted, xy, analytic, 1e-4);
   }
 }
 
@@ -204,17 +189,20 @@ TEST(RollingShutter, KnownPointsAtTheirRowsTimesMeasureTheAngularVelocity) {
   for (const PointObservation& o : observations) EXPECT_LT((o.z - o.h.uv_distorted).norm(), 0.01);
 }
 
-// The motion model's own turn over half the readout, seen through the focal length.
+// The motion model's own turn over half the readout, seen through the focal length: about 0.3 px
+// at sigma_alpha 3 rad/s^2 (30 Hz), 30 ms and this camera's focal length; as sigma_alpha, and as
+// the readout to the power 1.5 (the turn's variance grows as its time cubed).
 TEST(RollingShutter, PixelSigmaIsTheMotionNoisesTurnOverHalfTheReadout) {
   const CameraModel camera = test::testCamera();
   MotionModelOptions motion;
   motion.sigma_alpha = 3.0;
   motion.reference_rate = 30.0;
-  const double f = 0.5 * (camera.fx + camera.fy);
-  EXPECT_NEAR(rollingShutterPixelSigma(camera, kReadout, motion), f * std::sqrt(0.3 * std::pow(0.015, 3) / 3), 1e-12);
+  const double at_30ms = rollingShutterPixelSigma(camera, kReadout, motion);
+  EXPECT_NEAR(at_30ms, 0.5 * (camera.fx + camera.fy) * 5.81e-4, 0.01 * at_30ms);
   EXPECT_EQ(rollingShutterPixelSigma(camera, 0.0, motion), 0.0);
-  motion.sigma_alpha = 1.0;  // as sigma_alpha, and as readout^1.5
-  EXPECT_NEAR(rollingShutterPixelSigma(camera, kReadout, motion) * 3, f * std::sqrt(0.3 * std::pow(0.015, 3) / 3), 1e-12);
+  EXPECT_NEAR(rollingShutterPixelSigma(camera, 4 * kReadout, motion), 8 * at_30ms, 1e-12);
+  motion.sigma_alpha = 1.0;
+  EXPECT_NEAR(rollingShutterPixelSigma(camera, kReadout, motion), at_30ms / 3, 1e-12);
 }
 
 }  // namespace
