@@ -10,21 +10,39 @@
 
 namespace slamcmp {
 
+namespace {
+
+// Fixed-point steps on the point's row, from h's (its frame-time prediction): each predicts it from
+// the camera when the last row was read (the motion model without impulses), at most `steps`,
+// fewer once the row moves less than tolerance_px. h, *at_row and *F (if asked: d at_row / d
+// x_camera) are the last step's; false where it cannot be predicted.
+bool predictFromRowCamera(const CameraModel& camera, double readout, const CameraVector& x_camera,
+                          const PredictFromPose& predict, int steps, double tolerance_px, PointMeasurement* h,
+                          CameraVector* at_row, Mat13* F = nullptr) {
+  double row = h->uv_distorted.y();
+  for (int step = 0; step < steps; ++step) {
+    *at_row = predictCamera(x_camera, camera.rowTime(readout, row), Eigen::Matrix<double, 6, 1>::Zero(), F);
+    if (!predict(at_row->segment<3>(EkfState::kR), at_row->segment<4>(EkfState::kQ), h)) return false;
+    const double moved = std::abs(h->uv_distorted.y() - row);
+    row = h->uv_distorted.y();
+    if (moved < tolerance_px) break;
+  }
+  return true;
+}
+
+}  // namespace
+
 Vec2 rollingShutterShift(const CameraModel& camera, double readout, const Eigen::VectorXd& x,
                          const MapFeature& feature, const Vec2& uv_frame_time) {
   if (readout <= 0) return Vec2::Zero();
-  const CameraVector camera_now = x.head<13>();
-  Vec2 uv = uv_frame_time;
-  for (int step = 0; step < 2; ++step) {
-    // The camera when the row is read, by the motion model without impulses.
-    const CameraVector at_row =
-        predictCamera(camera_now, camera.rowTime(readout, uv.y()), Eigen::Matrix<double, 6, 1>::Zero());
-    PointMeasurement h;
-    if (!predictFeature(camera, at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), x, feature, &h))
-      return Vec2::Zero();
-    uv = h.uv_distorted;
-  }
-  return uv - uv_frame_time;
+  PointMeasurement h;
+  h.uv_distorted = uv_frame_time;
+  CameraVector at_row;
+  const PredictFromPose predict = [&](const Vec3& r, const Vec4& q, PointMeasurement* at) {
+    return predictFeature(camera, r, q, x, feature, at);
+  };
+  if (!predictFromRowCamera(camera, readout, x.head<13>(), predict, 2, 0.0, &h, &at_row)) return Vec2::Zero();
+  return h.uv_distorted - uv_frame_time;
 }
 
 Vec2 pixelAtFrameTime(const CameraModel& camera, double readout, const Vec3& w_camera, const Vec2& uv) {
@@ -62,14 +80,8 @@ bool predictAtRowTime(const CameraModel& camera, double readout, const CameraVec
   constexpr double kRowTolerancePx = 1e-4;
   Mat13 F;
   CameraVector at_row;
-  double row = h->uv_distorted.y();
-  for (int step = 0; step < kMaxSteps; ++step) {
-    at_row = predictCamera(x_camera, camera.rowTime(readout, row), Eigen::Matrix<double, 6, 1>::Zero(), &F);
-    if (!predict(at_row.segment<3>(EkfState::kR), at_row.segment<4>(EkfState::kQ), h)) return false;
-    const double moved = std::abs(h->uv_distorted.y() - row);
-    row = h->uv_distorted.y();
-    if (moved < kRowTolerancePx) break;
-  }
+  if (!predictFromRowCamera(camera, readout, x_camera, predict, kMaxSteps, kRowTolerancePx, h, &at_row, &F))
+    return false;
   // h(x) = g(camera at tau(row), x) with row h's own second coordinate: dh = G dx + (dg/dtau) tau'
   // d row, so (I - (dg/dtau) tau' e_row^T) dh = G dx with G = [H_r H_q] d(r, q)_row / d x.
   Eigen::Matrix<double, 2, 7> H_pose;

@@ -146,6 +146,8 @@ class BoardCornerMeasurer {
     double square_px = 0;     // the square's side near this corner, pixels
   };
   std::vector<CornerPrediction> predict(const EkfState& state, const cv::Mat& grey) const;
+  // The corners' noise now: the estimate (CornerNoise), at least rolling_shutter_sigma_.
+  double pixelSigma() const;
   int refineHalfWindow(double square_px) const;
   // Corner `id` measured at z (prediction h) goes to the update and is tracked into the next frame.
   void use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out);
@@ -170,8 +172,6 @@ class BoardCornerMeasurer {
   std::vector<Vec3> corners_world_;
   BoardCornerMeasurementOptions options_;
   double readout_ = 0;
-  // The corners' noise now: the estimate (CornerNoise), at least rolling_shutter_sigma_.
-  double pixelSigma() const;
   double rolling_shutter_sigma_ = 0;  // pixels, setMotionNoise's
   std::vector<cv::Mat> pyramid_prev_;
   std::vector<int> tracked_ids_;
