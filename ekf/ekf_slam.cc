@@ -264,6 +264,7 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
   const EkfState& state = posed_map_ ? posed_map_->state : state_;
   if (!relocaliser_ || !state.x().allFinite() || !state.P().allFinite()) return std::nullopt;
   std::vector<Vec3> p_world;
+  std::vector<Mat3> p_world_covariance;
   cv::Mat descriptors;
   for (const MapFeature& f : posed_map_ ? posed_map_->features : features_) {
     if (f.id >= below_id || f.is_ray || f.descriptor.empty()) continue;
@@ -274,10 +275,17 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
     }
     const Vec3 p = featurePoint(state.x(), f);
     if (!p.allFinite()) continue;
+    Mat3 covariance = state.P().block<3, 3>(f.offset, f.offset);
+    if (f.inverse_depth) {
+      Eigen::Matrix<double, 3, 6> J;
+      inverseDepthToPoint(state.x().segment<6>(f.offset), &J);
+      covariance = J * state.P().block<6, 6>(f.offset, f.offset) * J.transpose();
+    }
     p_world.push_back(p);
+    p_world_covariance.push_back(covariance);
     descriptors.push_back(f.descriptor);
   }
-  return relocaliser_->relocalise(grey, camera_, p_world, descriptors, inliers);
+  return relocaliser_->relocalise(grey, camera_, p_world, p_world_covariance, descriptors, inliers);
 }
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
@@ -58,7 +60,8 @@ cv::Mat Relocaliser::describe(const cv::Mat& grey, const Vec2& uv) const {
 }
 
 std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraModel& camera,
-                                           const std::vector<Vec3>& p_world, const cv::Mat& descriptors,
+                                           const std::vector<Vec3>& p_world,
+                                           const std::vector<Mat3>& p_world_covariance, const cv::Mat& descriptors,
                                            int* inliers) const {
   *inliers = 0;
   if (static_cast<int>(p_world.size()) < options_.min_inliers) return std::nullopt;
@@ -70,6 +73,7 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
   cv::BFMatcher(cv::NORM_HAMMING).knnMatch(descriptors, frame_descriptors, matches, 2);
   std::vector<cv::Point3d> p_world_matched;
   std::vector<cv::Point2d> xy_normalised;  // the lens's distortion removed
+  std::vector<int> point_index;            // of each match, into p_world
   for (const std::vector<cv::DMatch>& m : matches) {
     if (m.size() < 2 || m[0].distance >= options_.ratio * m[1].distance) continue;
     const Vec3& p = p_world[m[0].queryIdx];
@@ -77,6 +81,7 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
     const Vec2 xy = camera.undistortPixel(Vec2(uv.x, uv.y));
     p_world_matched.emplace_back(p.x(), p.y(), p.z());
     xy_normalised.emplace_back(xy.x(), xy.y());
+    point_index.push_back(m[0].queryIdx);
   }
   if (static_cast<int>(p_world_matched.size()) < options_.min_inliers) return std::nullopt;
   cv::Mat rvec, tvec;
@@ -92,11 +97,20 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
   cv::cv2eigen(tvec, t);
   if (!rotvec.allFinite() || !t.allFinite()) return std::nullopt;
   const SE3 T_camera_world = SE3::fromRotvec(rotvec, t);
-  // The points in front of the camera: a projection cannot tell a point behind the camera from
-  // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
-  for (int k : kept)
-    if (!((T_camera_world * Vec3(p_world_matched[k].x, p_world_matched[k].y, p_world_matched[k].z)).z() > 0))
-      return std::nullopt;
+  int confirmed = 0;  // inliers whose point is known to within the inlier test where it projects
+  for (int k : kept) {
+    const Vec3 p_camera = T_camera_world * p_world[point_index[k]];
+    // The points in front of the camera: a projection cannot tell a point behind the camera from
+    // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
+    if (!(p_camera.z() > 0)) return std::nullopt;
+    Eigen::Matrix<double, 2, 3> J;
+    camera.project(p_camera, &J);
+    const Eigen::Matrix<double, 2, 3> J_world = J * T_camera_world.R();
+    const Mat2 uv_covariance = J_world * p_world_covariance[point_index[k]] * J_world.transpose();
+    const double largest = Eigen::SelfAdjointEigenSolver<Mat2>(uv_covariance, Eigen::EigenvaluesOnly).eigenvalues()(1);
+    if (largest <= options_.max_error_px * options_.max_error_px) ++confirmed;
+  }
+  if (confirmed < options_.min_inliers) return std::nullopt;
   *inliers = static_cast<int>(kept.size());
   return T_camera_world.inverse();
 }

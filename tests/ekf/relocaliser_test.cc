@@ -59,6 +59,7 @@ cv::Mat renderWall(const cv::Mat& texture, const CameraModel& camera, const SE3&
 // descriptor of that view.
 struct WallMap {
   std::vector<Vec3> p_world;
+  std::vector<Mat3> p_world_covariance;  // exact unless a test says otherwise
   cv::Mat descriptors;
 };
 
@@ -71,6 +72,7 @@ WallMap mapFromFirstView(const Relocaliser& relocaliser, const CameraModel& came
     if (d.empty()) continue;
     const Vec2 xy = camera.undistortPixel(Vec2(c.x, c.y));
     map.p_world.push_back(Vec3(xy.x(), xy.y(), 1.0) * kPlaneZ);  // the first camera is the world
+    map.p_world_covariance.push_back(Mat3::Zero());
     map.descriptors.push_back(d);
   }
   return map;
@@ -89,7 +91,7 @@ TEST(Relocaliser, FindsTheCameraAgainFromTheMap) {
                                     SE3::fromRotvec(Vec3(0.05, -0.08, 0.44), Vec3(0.05, -0.04, 0.05))}) {
     int inliers = 0;
     const std::optional<SE3> found = relocaliser.relocalise(renderWall(texture, camera, T_world_camera), camera,
-                                                            map.p_world, map.descriptors, &inliers);
+                                                            map.p_world, map.p_world_covariance, map.descriptors, &inliers);
     ASSERT_TRUE(found);
     EXPECT_GE(inliers, 50);
     EXPECT_LT((found->t() - T_world_camera.t()).norm(), 0.006);
@@ -105,10 +107,10 @@ TEST(Relocaliser, NoPoseWhereTheMapIsNotInView) {
   const WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
   int inliers = -1;
   EXPECT_FALSE(relocaliser.relocalise(renderWall(wallTexture(4), camera, SE3()), camera, map.p_world,
-                                      map.descriptors, &inliers));
+                                      map.p_world_covariance, map.descriptors, &inliers));
   EXPECT_EQ(inliers, 0);
   EXPECT_FALSE(relocaliser.relocalise(cv::Mat(480, 640, CV_8U, cv::Scalar(128)), camera, map.p_world,
-                                      map.descriptors, &inliers));
+                                      map.p_world_covariance, map.descriptors, &inliers));
 }
 
 // Points mirrored through the camera centre (p -> -p) project to the same pixels from behind it.
@@ -125,12 +127,44 @@ TEST(Relocaliser, RefusesMirroredPoints) {
   std::uniform_real_distribution<double> depth(0.5, 2.0);
   for (Vec3& p : map.p_world) p *= depth(rng);
   int inliers = 0;
-  const std::optional<SE3> found = relocaliser.relocalise(view, camera, map.p_world, map.descriptors, &inliers);
+  const std::optional<SE3> found = relocaliser.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors, &inliers);
   ASSERT_TRUE(found);
   EXPECT_LT(found->t().norm(), 1e-3);
   for (Vec3& p : map.p_world) p = -p;
-  EXPECT_FALSE(relocaliser.relocalise(view, camera, map.p_world, map.descriptors, &inliers));
+  EXPECT_FALSE(relocaliser.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors, &inliers));
   EXPECT_EQ(inliers, 0);
+}
+
+// A map whose depths are uncertain (a filter's inverse-depth features: 0.3 m along each ray at 1.5
+// m) confirms a pose only where that uncertainty projects within the inlier test (3 px). From a
+// camera 2 cm beside the first it projects within about 1.4 px: found. From one 8 cm away, 5-6 px:
+// PnP would take the points as exact and fit them anywhere along those pixels, so no pose; the
+// same map known to 1 cm is found there.
+TEST(Relocaliser, CountsOnlyInliersWhosePointsAreKnownToWithinTheInlierTest) {
+  const CameraModel camera = pinhole();
+  const cv::Mat texture = wallTexture();
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
+  const auto alongRays = [&](double sigma) {
+    for (size_t k = 0; k < map.p_world.size(); ++k) {
+      const Vec3 ray = map.p_world[k].normalized();  // from the first camera, at the origin
+      map.p_world_covariance[k] = sigma * sigma * ray * ray.transpose();
+    }
+  };
+  const SE3 beside = SE3::fromRotvec(Vec3(0, 0, 0.1), Vec3(0.02, 0, 0));
+  const SE3 away = SE3::fromRotvec(Vec3(0.05, -0.08, 0.44), Vec3(0.05, -0.04, 0.05));
+  int inliers = 0;
+  alongRays(0.3);
+  EXPECT_TRUE(relocaliser.relocalise(renderWall(texture, camera, beside), camera, map.p_world,
+                                     map.p_world_covariance, map.descriptors, &inliers));
+  EXPECT_FALSE(relocaliser.relocalise(renderWall(texture, camera, away), camera, map.p_world, map.p_world_covariance,
+                                      map.descriptors, &inliers));
+  EXPECT_EQ(inliers, 0);
+  alongRays(0.01);
+  const std::optional<SE3> found = relocaliser.relocalise(renderWall(texture, camera, away), camera, map.p_world,
+                                                          map.p_world_covariance, map.descriptors, &inliers);
+  ASSERT_TRUE(found);
+  EXPECT_LT((found->t() - away.t()).norm(), 0.006);
 }
 
 }  // namespace

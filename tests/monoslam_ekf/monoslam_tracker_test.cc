@@ -438,14 +438,21 @@ double worstTurnErrorDeg(const std::string& path, const RunResult& run) {
 // (reporting.max_innovation_jump) marks the frames lost from there at 1 degree off, until the
 // relocalisation finds the map again on the way back (frame 186). It relocalises against, and
 // resumes from, the map as it was in the last posed frame: the lost frames' own updates had moved
-// it, and the relocalised frames were up to 4.9 degrees off (2.2 now).
+// it, and the relocalised frames were up to 4.9 degrees off (2.2 now). Its first relocalisations
+// (frames 187 and 190) rested on 6 PnP inliers, two of them inverse-depth features uncertain by 6-7
+// px where they project, and were 0.15 units (7 % of the depth) off: the first posed frames 32 and
+// 23 mm off, the run's Sim(3) ATE (230 frames) 5.4 mm. Counting only inliers known to within the
+// inlier test, it relocalises at frame 200 from 11, and the ATE is 3.9 mm, within twice the
+// board-started run's (issue 18's target).
 TEST(MonoslamTracker, BoardFreeTurningTooFarIsReportedLostAndRelocalised) {
   test::TempDir dir;
   // As the full render is anti-aliased: at one sample per pixel the filter turns right.
-  renderFast("wall_turn", 200, dir.path(), 32, SynthOptions{}.supersample);
+  renderFast("wall_turn", 230, dir.path(), 32, SynthOptions{}.supersample);
   const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt);
-  EXPECT_GE(run.tracked, 95);
+  EXPECT_GE(run.tracked, 110);
   EXPECT_LT(worstTurnErrorDeg(dir.path(), run), 3.0);
+  const RunResult board = runTracker(dir.path(), InitSource::Board, std::nullopt);
+  EXPECT_LT(sim3Ate(dir.path(), run), 2 * sim3Ate(dir.path(), board));
   const auto jump = std::find_if(run.results.begin(), run.results.end(), [](const FrameResult& r) {
     return r.reason.find("times the run's innovation level") != std::string::npos;
   });
