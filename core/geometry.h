@@ -1,6 +1,10 @@
 #pragma once
 // Rotations (rotation vector, matrix, unit quaternion; thesis eqs. 3.38 to 3.41) and rigid poses.
+#include <algorithm>
+#include <cmath>
+
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 namespace slamcmp {
@@ -20,6 +24,15 @@ Mat3 rotationFromRotvec(const Vec3& rotvec);
 Vec3 rotvecFromRotation(const Mat3& R);
 Quat quatFromRotvec(const Vec3& rotvec);
 Vec3 rotvecFromQuat(const Quat& q);
+
+// The largest standard deviation of a covariance: the square root of its largest eigenvalue (the
+// longest semi-axis of its ellipsoid); 0 where rounding left that eigenvalue negative.
+template <class Derived>
+double largestStd(const Eigen::MatrixBase<Derived>& P) {
+  using Plain = typename Derived::PlainObject;
+  const Plain P_plain = P;
+  return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Plain>(P_plain, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff()));
+}
 // The rotation closest in Frobenius norm to M (U V^T of its SVD, det +1).
 Mat3 nearestRotation(const Mat3& M);
 // Angle of a rotation in radians, in [0, pi].

@@ -343,10 +343,10 @@ struct RelocalisationOptions {
   int frame_corners = 1000;      // corners of the frame described and matched
   double ratio = 0.8;            // a match's Hamming distance under this times the second best's (Lowe)
   // PnP RANSAC inliers to accept a pose (a map of 12 features), counting only those whose map
-  // point the filter knows to within max_error_px where it projects (its covariance's largest
-  // std there): a point uncertain beyond the inlier test passes it for poses far apart, and PnP
-  // takes it as exact. wall_turn seed 32's map let 6 inliers, two of them uncertain by 6-7 px,
-  // fit a pose 0.15 units (7 % of the depth) off; 6 known to 1.4 px fitted one within 0.007.
+  // point the filter knows to within max_error_px where it projects (its covariance's largest std
+  // there): a point uncertain beyond the inlier test passes it for poses far apart, and PnP takes
+  // it as exact (docs/findings.md, session 31). The covariances are the map's own, drift
+  // included, so an old map confirms fewer of its points.
   int min_inliers = 6;
   double min_inlier_ratio = 0.3; // and at least this fraction of the matches
   double max_error_px = 3.0;     // PnP RANSAC inlier threshold, pixels
@@ -360,7 +360,7 @@ struct RelocalisationOptions {
     v("ratio", ratio, "Lowe's ratio test for the descriptor matches");
     v("min_inliers", min_inliers,
       "PnP RANSAC inliers needed to accept a pose, counting those whose map point's std where it projects is "
-      "under max_error_px");
+      "within max_error_px");
     v("min_inlier_ratio", min_inlier_ratio, "fraction of the descriptor matches the pose must explain");
     v("max_error_px", max_error_px, "PnP RANSAC inlier threshold, pixels");
     v("position_sigma", position_sigma, "units (metres with a board), std of the relocalised camera position");

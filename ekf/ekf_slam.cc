@@ -224,8 +224,7 @@ std::string EkfSlam::divergence() const {
                                                                                 Eigen::EigenvaluesOnly);
   if (camera_eig.eigenvalues()(0) < -1e-9 * std::max(1.0, camera_eig.eigenvalues()(12)))
     return "diverged: camera covariance not positive semi-definite";
-  const double position_sigma = std::sqrt(
-      Eigen::SelfAdjointEigenSolver<Mat3>(state_.P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly).eigenvalues()(2));
+  const double position_sigma = largestStd(state_.P().topLeftCorner<3, 3>());
   if (position_sigma > ho.max_position_sigma) return "diverged: camera position std " + fixed(position_sigma, 2) + " m";
   if (state_.v().norm() > ho.max_speed) return "diverged: speed " + fixed(state_.v().norm(), 1) + " m/s";
   if (state_.w().norm() > ho.max_angular_speed)
@@ -264,7 +263,7 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
   const EkfState& state = posed_map_ ? posed_map_->state : state_;
   if (!relocaliser_ || !state.x().allFinite() || !state.P().allFinite()) return std::nullopt;
   std::vector<Vec3> p_world;
-  std::vector<Mat3> p_world_covariance;
+  std::vector<Mat3> P_points;  // each point's world covariance
   cv::Mat descriptors;
   for (const MapFeature& f : posed_map_ ? posed_map_->features : features_) {
     if (f.id >= below_id || f.is_ray || f.descriptor.empty()) continue;
@@ -275,17 +274,11 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
     }
     const Vec3 p = featurePoint(state.x(), f);
     if (!p.allFinite()) continue;
-    Mat3 covariance = state.P().block<3, 3>(f.offset, f.offset);
-    if (f.inverse_depth) {
-      Eigen::Matrix<double, 3, 6> J;
-      inverseDepthToPoint(state.x().segment<6>(f.offset), &J);
-      covariance = J * state.P().block<6, 6>(f.offset, f.offset) * J.transpose();
-    }
     p_world.push_back(p);
-    p_world_covariance.push_back(covariance);
+    P_points.push_back(featurePointCovariance(state, f));
     descriptors.push_back(f.descriptor);
   }
-  return relocaliser_->relocalise(grey, camera_, p_world, p_world_covariance, descriptors, inliers);
+  return relocaliser_->relocalise(grey, camera_, p_world, P_points, descriptors, inliers);
 }
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {
@@ -315,9 +308,7 @@ std::vector<MapPoint> EkfSlam::mapPoints() const {
     p.id = f.id;
     p.p_world = state_.x().segment<3>(f.offset);
     p.observations = f.successes;
-    // The ellipsoid's largest semi-axis: sqrt of the largest eigenvalue of the point's covariance.
-    const Mat3 P_y = state_.P().block<3, 3>(f.offset, f.offset);
-    p.sigma = std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3>(P_y, Eigen::EigenvaluesOnly).eigenvalues()(2)));
+    p.sigma = largestStd(state_.P().block<3, 3>(f.offset, f.offset));  // its ellipsoid's largest semi-axis
     points.push_back(p);
   }
   return points;

@@ -134,6 +134,13 @@ Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature) {
   return x.segment<3>(feature.offset);
 }
 
+Mat3 featurePointCovariance(const EkfState& state, const MapFeature& feature) {
+  if (!feature.inverse_depth) return state.P().block<3, 3>(feature.offset, feature.offset);
+  Eigen::Matrix<double, 3, 6> J;
+  inverseDepthToPoint(state.x().segment<6>(feature.offset), &J);
+  return J * state.P().block<6, 6>(feature.offset, feature.offset) * J.transpose();
+}
+
 FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
                                  const cv::Mat& grey, const ActiveSearchOptions& so,
                                  const OnePointRansacOptions* ransac, std::mt19937* rng) {
@@ -150,7 +157,7 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     s.index = i;
     s.uv_predicted = h.uv_distorted;
     s.S = pointInnovationCovariance(state, h, f.offset, so.pixel_sigma);
-    s.half_axis = so.sigma_gate * std::sqrt(Eigen::SelfAdjointEigenSolver<Mat2>(s.S).eigenvalues()(1));
+    s.half_axis = so.sigma_gate * largestStd(s.S);
     if (s.half_axis <= so.max_search_half_axis) selectable.push_back(out.features.size());
     out.features.push_back(s);
     h_visible.push_back(h);

@@ -51,6 +51,9 @@ bool predictFeature(const CameraModel& camera, const Vec3& r, const Vec4& q, con
 // Where the feature is in the world: a point, an inverse-depth feature's x0 + m / rho (far when
 // rho <= 0), a ray at its particles' mean depth.
 Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature);
+// Its covariance, P_point, for a point or an inverse-depth feature (J P_y J^T, J = d p / d y of
+// inverseDepthToPoint); not for a ray.
+Mat3 featurePointCovariance(const EkfState& state, const MapFeature& feature);
 
 // Measures the points and inverse-depth features (rays are skipped) and updates `state`; counts
 // attempts and successes in `features`. Each feature's S is read from its own blocks of P (O(1));

@@ -19,9 +19,7 @@ std::vector<size_t> lowInnovationInliers(const EkfState& state, const std::vecto
   if (m == 0) return best;
   // The prior's turn std (a small rotation of angle a moves the quaternion by a / 2): beyond
   // max_turn_sigma a hypothesis draws two matches, which fix a roll that one leaves free.
-  const Mat4 P_q = state.P().block<4, 4>(EkfState::kQ, EkfState::kQ);
-  const double turn_sigma =
-      2 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat4>(P_q, Eigen::EigenvaluesOnly).eigenvalues()(3)));
+  const double turn_sigma = 2 * largestStd(state.P().block<4, 4>(EkfState::kQ, EkfState::kQ));
   const size_t sample = turn_sigma > options.max_turn_sigma && m >= 2 ? 2 : 1;
   std::vector<size_t> order(m);
   std::iota(order.begin(), order.end(), 0);

@@ -42,8 +42,7 @@ std::string PoseReporting::weakness(int measured, double nis, int nis_dof, bool 
             std::to_string(weak_frames_) + " frames";
     return lost_;
   }
-  const double position_sigma = std::sqrt(std::max(
-      0.0, Eigen::SelfAdjointEigenSolver<Mat3>(state.P().topLeftCorner<3, 3>(), Eigen::EigenvaluesOnly).eigenvalues()(2)));
+  const double position_sigma = largestStd(state.P().topLeftCorner<3, 3>());
   if (position_sigma > options_.max_position_sigma) {
     std::ostringstream out;
     out << "camera position std " << std::fixed << std::setprecision(3) << position_sigma << " m";

@@ -1,8 +1,8 @@
 #include "ekf/relocaliser.h"
 
-#include <cmath>
+#include "ekf/measurement_model.h"
 
-#include <Eigen/Eigenvalues>
+#include <cmath>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -61,10 +61,12 @@ cv::Mat Relocaliser::describe(const cv::Mat& grey, const Vec2& uv) const {
 
 std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraModel& camera,
                                            const std::vector<Vec3>& p_world,
-                                           const std::vector<Mat3>& p_world_covariance, const cv::Mat& descriptors,
+                                           const std::vector<Mat3>& P_points, const cv::Mat& descriptors,
                                            int* inliers) const {
   *inliers = 0;
-  if (static_cast<int>(p_world.size()) < options_.min_inliers) return std::nullopt;
+  if (static_cast<int>(p_world.size()) < options_.min_inliers || P_points.size() != p_world.size() ||
+      descriptors.rows != static_cast<int>(p_world.size()))
+    return std::nullopt;
   std::vector<cv::Point2f> uv_distorted;
   cv::goodFeaturesToTrack(grey, uv_distorted, options_.frame_corners, 0.001, 5);
   const cv::Mat frame_descriptors = describeAll(grey, &uv_distorted);
@@ -103,15 +105,16 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
     // The points in front of the camera: a projection cannot tell a point behind the camera from
     // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
     if (!(p_camera.z() > 0)) return std::nullopt;
-    Eigen::Matrix<double, 2, 3> J;
-    camera.project(p_camera, &J);
-    const Eigen::Matrix<double, 2, 3> J_world = J * T_camera_world.R();
-    const Mat2 uv_covariance = J_world * p_world_covariance[point_index[k]] * J_world.transpose();
-    const double largest = Eigen::SelfAdjointEigenSolver<Mat2>(uv_covariance, Eigen::EigenvaluesOnly).eigenvalues()(1);
-    if (largest <= options_.max_error_px * options_.max_error_px) ++confirmed;
+    // In the inlier test's own measure: normalised coordinates times the focal length.
+    const double iz = 1.0 / p_camera.z();
+    Mat23 J_uv_camera;
+    J_uv_camera << iz, 0, -p_camera.x() * iz * iz, 0, iz, -p_camera.y() * iz * iz;
+    const Mat23 J_uv_world = focal * J_uv_camera * T_camera_world.R();
+    const Mat2 P_uv = J_uv_world * P_points[point_index[k]] * J_uv_world.transpose();
+    if (largestStd(P_uv) <= options_.max_error_px) ++confirmed;
   }
   if (confirmed < options_.min_inliers) return std::nullopt;
-  *inliers = static_cast<int>(kept.size());
+  *inliers = confirmed;
   return T_camera_world.inverse();
 }
 

@@ -89,7 +89,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
                  uv.y() <= grey.rows - 1 - border;
     if (!p.in_image) continue;
     p.S = pointInnovationCovariance(state, p.h, kKnownPoint, pixelSigma());
-    p.half_axis_px = 3.0 * std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat2>(p.S).eigenvalues()(1)));
+    p.half_axis_px = 3.0 * largestStd(p.S);
   }
   return pred;
 }

@@ -135,35 +135,44 @@ TEST(Relocaliser, RefusesMirroredPoints) {
   EXPECT_EQ(inliers, 0);
 }
 
-// A map whose depths are uncertain (a filter's inverse-depth features: 0.3 m along each ray at 1.5
-// m) confirms a pose only where that uncertainty projects within the inlier test (3 px). From a
-// camera 2 cm beside the first it projects within about 1.4 px: found. From one 8 cm away, 5-6 px:
-// PnP would take the points as exact and fit them anywhere along those pixels, so no pose; the
-// same map known to 1 cm is found there.
+// A map whose depths are uncertain (a filter's inverse-depth features, here 0.5 m along each ray at
+// 1.5 m) confirms a pose only where that uncertainty projects within the inlier test (3 px). From a
+// camera 2 cm beside the first, turned 6 degrees, it projects within 2.4 px: found. From one 8 cm
+// away it projects 3.6-9.6 px: PnP would take the points as exact and fit them anywhere along those
+// pixels, so no pose, whatever the other points do, as long as fewer than min_inliers are known
+// better; with 20 of them known to 1 cm the pose is found, those 20 the most its count can hold.
 TEST(Relocaliser, CountsOnlyInliersWhosePointsAreKnownToWithinTheInlierTest) {
   const CameraModel camera = pinhole();
   const cv::Mat texture = wallTexture();
   const Relocaliser relocaliser{RelocalisationOptions{}};
   WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
-  const auto alongRays = [&](double sigma) {
+  const auto alongRays = [&](double sigma, size_t known) {  // the first `known` points to 1 cm
     for (size_t k = 0; k < map.p_world.size(); ++k) {
       const Vec3 ray = map.p_world[k].normalized();  // from the first camera, at the origin
-      map.p_world_covariance[k] = sigma * sigma * ray * ray.transpose();
+      const double s = k < known ? 0.01 : sigma;
+      map.p_world_covariance[k] = s * s * ray * ray.transpose();
     }
   };
-  const SE3 beside = SE3::fromRotvec(Vec3(0, 0, 0.1), Vec3(0.02, 0, 0));
+  const SE3 beside = SE3::fromRotvec(Vec3(0.06, -0.08, 0.1), Vec3(0.02, 0, 0));
   const SE3 away = SE3::fromRotvec(Vec3(0.05, -0.08, 0.44), Vec3(0.05, -0.04, 0.05));
+  const cv::Mat view_away = renderWall(texture, camera, away);
   int inliers = 0;
-  alongRays(0.3);
+  alongRays(0.5, 0);
   EXPECT_TRUE(relocaliser.relocalise(renderWall(texture, camera, beside), camera, map.p_world,
                                      map.p_world_covariance, map.descriptors, &inliers));
-  EXPECT_FALSE(relocaliser.relocalise(renderWall(texture, camera, away), camera, map.p_world, map.p_world_covariance,
-                                      map.descriptors, &inliers));
+  EXPECT_FALSE(relocaliser.relocalise(view_away, camera, map.p_world, map.p_world_covariance, map.descriptors,
+                                      &inliers));
   EXPECT_EQ(inliers, 0);
-  alongRays(0.01);
-  const std::optional<SE3> found = relocaliser.relocalise(renderWall(texture, camera, away), camera, map.p_world,
-                                                          map.p_world_covariance, map.descriptors, &inliers);
+  const int min_inliers = RelocalisationOptions{}.min_inliers;
+  alongRays(0.5, static_cast<size_t>(min_inliers - 1));
+  EXPECT_FALSE(relocaliser.relocalise(view_away, camera, map.p_world, map.p_world_covariance, map.descriptors,
+                                      &inliers));
+  alongRays(0.5, 20);
+  const std::optional<SE3> found =
+      relocaliser.relocalise(view_away, camera, map.p_world, map.p_world_covariance, map.descriptors, &inliers);
   ASSERT_TRUE(found);
+  EXPECT_GE(inliers, min_inliers);
+  EXPECT_LE(inliers, 20) << "only the points known to within the test count";
   EXPECT_LT((found->t() - away.t()).norm(), 0.006);
 }
 

@@ -436,14 +436,14 @@ double worstTurnErrorDeg(const std::string& path, const RunResult& run) {
 // frame that agree with it, 24 degrees too far by frame 125 (NEES 600). The matches' NIS per dof
 // against the prior climbs from the run's 0.01 to 0.66 by frame 88, and the innovation jump
 // (reporting.max_innovation_jump) marks the frames lost from there at 1 degree off, until the
-// relocalisation finds the map again on the way back (frame 186). It relocalises against, and
-// resumes from, the map as it was in the last posed frame: the lost frames' own updates had moved
-// it, and the relocalised frames were up to 4.9 degrees off (2.2 now). Its first relocalisations
-// (frames 187 and 190) rested on 6 PnP inliers, two of them inverse-depth features uncertain by 6-7
-// px where they project, and were 0.15 units (7 % of the depth) off: the first posed frames 32 and
-// 23 mm off, the run's Sim(3) ATE (230 frames) 5.4 mm. Counting only inliers known to within the
-// inlier test, it relocalises at frame 200 from 11, and the ATE is 3.9 mm, within twice the
-// board-started run's (issue 18's target).
+// relocalisation finds the map again on the way back. It relocalises against, and resumes from, the
+// map as it was in the last posed frame: the lost frames' own updates had moved it, and the
+// relocalised frames were up to 4.9 degrees off (2.2 then). Here (230 frames) its first
+// relocalisation, at frame 187, rested on 6 PnP inliers, two of them inverse-depth features
+// uncertain by 6-7 px where they project, and was 0.15 units (7 % of the depth) off: the run's
+// Sim(3) ATE 5.4 mm. Counting only the inliers known to within the inlier test, it relocalises at
+// frame 200 (9 inliers, 6 of them counted: just min_inliers) and the ATE is 3.9 mm, within twice
+// the board-started run's 2.06 (issue 18's target; the full render: 4.4 -> 3.1 mm against 1.85).
 TEST(MonoslamTracker, BoardFreeTurningTooFarIsReportedLostAndRelocalised) {
   test::TempDir dir;
   // As the full render is anti-aliased: at one sample per pixel the filter turns right.
