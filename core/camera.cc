@@ -130,8 +130,7 @@ Vec2 CameraModel::project(const Vec3& p, Eigen::Matrix<double, 2, 3>* J) const {
   Mat2 Jd;
   const Vec2 xyd = distort(xy, J ? &Jd : nullptr);
   if (J) {
-    Eigen::Matrix<double, 2, 3> Jp;  // d xy / d p
-    Jp << iz, 0, -p.x() * iz * iz, 0, iz, -p.y() * iz * iz;
+    const Mat23 Jp = pinholeJacobian(p);  // d xy / d p
     Mat2 Jk;  // d uv / d xy_distorted
     Jk << fx, skew, 0, fy;
     *J = Jk * Jd * Jp;

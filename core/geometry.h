@@ -13,10 +13,19 @@ using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Mat2 = Eigen::Matrix2d;
 using Mat3 = Eigen::Matrix3d;
+using Mat23 = Eigen::Matrix<double, 2, 3>;
 using Quat = Eigen::Quaterniond;
 
 // [v]x with [v]x w = v x w.
 Mat3 skew(const Vec3& v);
+
+// d (x / z, y / z) / d p at p = (x, y, z), z > 0: the pinhole projection's Jacobian.
+inline Mat23 pinholeJacobian(const Vec3& p) {
+  const double iz = 1.0 / p.z();
+  Mat23 J;
+  J << iz, 0, -p.x() * iz * iz, 0, iz, -p.y() * iz * iz;
+  return J;
+}
 
 // Rodrigues: R = I + sin(theta)/theta [r]x + (1 - cos(theta))/theta^2 [r]x^2, exact near theta = 0.
 Mat3 rotationFromRotvec(const Vec3& rotvec);
@@ -33,6 +42,7 @@ double largestStd(const Eigen::MatrixBase<Derived>& P) {
   const Plain P_plain = P;
   return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Plain>(P_plain, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff()));
 }
+
 // The rotation closest in Frobenius norm to M (U V^T of its SVD, det +1).
 Mat3 nearestRotation(const Mat3& M);
 // Angle of a rotation in radians, in [0, pi].

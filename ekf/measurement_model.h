@@ -8,7 +8,6 @@
 
 namespace slamcmp {
 
-using Mat23 = Eigen::Matrix<double, 2, 3>;
 using Mat24 = Eigen::Matrix<double, 2, 4>;
 // d h / d y: 2x3 for a 3D point, 2x6 for an inverse-depth feature (inverse_depth.h); no heap.
 using FeatureJacobian = Eigen::Matrix<double, 2, Eigen::Dynamic, 0, 2, 6>;

@@ -1,7 +1,5 @@
 #include "ekf/relocaliser.h"
 
-#include "ekf/measurement_model.h"
-
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
@@ -106,10 +104,7 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
     // its mirror image (tum_fr1_rpy: 6 of 10 matches fitted a pose that put them all behind).
     if (!(p_camera.z() > 0)) return std::nullopt;
     // In the inlier test's own measure: normalised coordinates times the focal length.
-    const double iz = 1.0 / p_camera.z();
-    Mat23 J_uv_camera;
-    J_uv_camera << iz, 0, -p_camera.x() * iz * iz, 0, iz, -p_camera.y() * iz * iz;
-    const Mat23 J_uv_world = focal * J_uv_camera * T_camera_world.R();
+    const Mat23 J_uv_world = focal * pinholeJacobian(p_camera) * T_camera_world.R();
     const Mat2 P_uv = J_uv_world * P_points[point_index[k]] * J_uv_world.transpose();
     if (largestStd(P_uv) <= options_.max_error_px) ++confirmed;
   }

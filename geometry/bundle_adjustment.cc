@@ -19,7 +19,6 @@ void BundleAdjustmentOptions::check() const {
 namespace {
 
 using Mat63 = Eigen::Matrix<double, 6, 3>;
-using Mat23 = Eigen::Matrix<double, 2, 3>;
 using Mat26 = Eigen::Matrix<double, 2, 6>;
 
 constexpr double kMinDepth = 1e-6;
@@ -141,8 +140,7 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
       const double iz = 1.0 / p.z();
       const Vec2 r = p.head<2>() * iz - o.xy;
       const double w = o.weight * huberWeight(o.weight * r.squaredNorm(), k);
-      Mat23 Jpi;
-      Jpi << iz, 0, -p.x() * iz * iz, 0, iz, -p.y() * iz * iz;
+      const Mat23 Jpi = pinholeJacobian(p);
       // Left perturbation of the camera: p' = p + omega x p + v, dp/d(omega, v) = [-[p]x, I].
       Mat26 Jc;
       Jc << Jpi * -skew(p), Jpi;
