@@ -61,6 +61,12 @@ using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<Poi
 bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
                     const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);
 
+// The camera's orientation measured whole (R_world_camera, e.g. by two-view geometry) with std
+// sigma_rad about each axis: the residual is the rotation vector 2 vec(q_m^-1 q) of the camera's
+// error in its own frame, linear in q (H = 2 [0 I] L(q_m^-1), L the left quaternion product).
+// Returns false, leaving the state untouched, when S is not positive definite.
+bool orientationUpdate(EkfState& state, const Mat3& R_world_camera, double sigma_rad);
+
 // The state correction K (z - h) of a few observations, without touching P (1-point RANSAC's
 // hypotheses, Civera et al. 2010): O(n m). Zero when S is not positive definite.
 Eigen::VectorXd stateCorrection(const EkfState& state, const std::vector<PointObservation>& observations,

@@ -40,9 +40,10 @@ double signedSampson(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
   return d > 0 ? b.dot(Ea) / std::sqrt(d) : 0.0;
 }
 
-// Levenberg-Marquardt on the Sampson distances of the inliers over the 5 degrees of freedom of
-// the motion (rotation, and the translation direction on the unit sphere); numeric Jacobian.
-SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int iterations) {
+}  // namespace
+
+SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int iterations,
+                        double cauchy_scale) {
   using Vec5 = Eigen::Matrix<double, 5, 1>;
   const int n = static_cast<int>(a.size());
   auto apply = [](const SE3& T, const Vec5& d) {
@@ -58,6 +59,11 @@ SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector
     for (int i = 0; i < n; ++i) r(i) = signedSampson(E, a[i], b[i]);
     return r;
   };
+  const double c2 = cauchy_scale * cauchy_scale;
+  auto cost = [&](const Eigen::VectorXd& r) {
+    if (c2 <= 0) return r.squaredNorm();
+    return c2 * (r.array().square() / c2).log1p().sum();
+  };
   SE3 T = T_b_a;
   Eigen::VectorXd r = residuals(T);
   double lambda = 1e-3;
@@ -68,8 +74,14 @@ SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector
       d(k) = 1e-7;
       J.col(k) = (residuals(apply(T, d)) - r) / 1e-7;
     }
-    Eigen::Matrix<double, 5, 5> H = J.transpose() * J;
-    const Vec5 g = J.transpose() * r;
+    Eigen::VectorXd rw = r;
+    if (c2 > 0) {  // iteratively reweighted: the Cauchy loss's weight 1 / (1 + r^2 / c^2) at the current residuals
+      const Eigen::VectorXd sqrt_w = (1 + r.array().square() / c2).rsqrt();
+      J = sqrt_w.asDiagonal() * J;
+      rw = sqrt_w.cwiseProduct(r);
+    }
+    const Eigen::Matrix<double, 5, 5> H = J.transpose() * J;
+    const Vec5 g = J.transpose() * rw;
     bool improved = false;
     for (int attempt = 0; attempt < 6 && !improved; ++attempt) {
       Eigen::Matrix<double, 5, 5> A = H;
@@ -77,7 +89,7 @@ SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector
       const Vec5 d = A.ldlt().solve(-g);
       const SE3 candidate = apply(T, d);
       const Eigen::VectorXd rc = residuals(candidate);
-      if (rc.squaredNorm() < r.squaredNorm()) {
+      if (cost(rc) < cost(r)) {
         improved = true;
         T = candidate;
         r = rc;
@@ -90,8 +102,6 @@ SE3 refineMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector
   }
   return T;
 }
-
-}  // namespace
 
 TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
                                     double focal_px, const TwoViewOptions& options) {
@@ -132,9 +142,9 @@ TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::ve
   };
   int in_front = 0;
   if (collectInliers(E)) {
-    out.T_b_a = refineMotion(selectByCheirality(E, a, b, &in_front), a, b, options.refine_iterations);
+    out.T_b_a = refineTwoViewMotion(selectByCheirality(E, a, b, &in_front), a, b, options.refine_iterations);
     if (collectInliers(skew(out.T_b_a.t()) * out.T_b_a.R())) {
-      out.T_b_a = refineMotion(out.T_b_a, a, b, options.refine_iterations);
+      out.T_b_a = refineTwoViewMotion(out.T_b_a, a, b, options.refine_iterations);
       in_front = countInFront(out.T_b_a, a, b);
     }
   }

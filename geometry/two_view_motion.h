@@ -47,4 +47,12 @@ struct TwoViewResult {
 TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
                                     double focal_px, const TwoViewOptions& options);
 
+// Levenberg-Marquardt on the Sampson distances of xy_a[i] <-> xy_b[i] (normalised coordinates)
+// over the motion's 5 degrees of freedom (rotation, and the translation direction on the unit
+// sphere), from T_b_a; numeric Jacobian. cauchy_scale > 0 (normalised units): the Cauchy loss
+// c^2 log(1 + r^2 / c^2) instead of the squares, iteratively reweighted (tracks far off the motion
+// barely pull it).
+SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
+                        int iterations, double cauchy_scale = 0);
+
 }  // namespace slamcmp

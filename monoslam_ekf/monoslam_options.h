@@ -4,6 +4,7 @@
 #include "core/options.h"
 #include "ekf/ekf_options.h"
 #include "ekf/ekf_slam.h"
+#include "monoslam_ekf/two_view_orientation.h"
 #include "tracking/board_presence.h"
 
 namespace slamcmp {
@@ -14,6 +15,7 @@ struct MonoslamOptions {
   RelocalisationOptions relocalisation;
   ChessboardDetectorOptions board;
   BoardPresenceOptions board_presence;
+  TwoViewOrientationOptions two_view_orientation;
   template <class V>
   void visit(V& v) {
     visitFilterOptions(v, filter);
@@ -23,6 +25,8 @@ struct MonoslamOptions {
     v("board_presence", board_presence,
       "the quick test (X-junctions) before each search for the board once it has been seen (restarts after a "
       "divergence search every frame)");
+    v("two_view_orientation", two_view_orientation,
+      "--init none: the orientation measured by two-view geometry to each of the last frames, on tracks of its own");
   }
   void check() const {}  // each field's struct checks itself (checkOptions)
 };

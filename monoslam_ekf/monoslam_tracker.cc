@@ -46,7 +46,10 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
   if (!context.camera)
     throw InputError("--camera", "the monoslam back-end needs a calibrated camera (camera.yaml)");
   camera_ = *context.camera;
-  if (init_ == InitSource::None) return;  // no target: the first frame's features start the map
+  if (init_ == InitSource::None) {  // no target: the first frame's features start the map
+    if (options_.two_view_orientation.enabled) two_view_.emplace(camera_, options_.two_view_orientation);
+    return;
+  }
   if (!context.target)
     throw InputError("--target", "the monoslam back-end needs the board (target.yaml): its corners start the map");
   target_ = *context.target;
@@ -250,6 +253,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       return result;
     }
     started_here = true;
+    if (two_view_) two_view_->update(frame.grey, slam_.state());  // the first tracks
     slam_.updateMap(frame.grey, visible_);
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
@@ -266,6 +270,8 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     last_timestamp_ = frame.timestamp;
     {
       const StageTimer timer(&result.stages, "features");
+      // The orientation first: the patches are then searched about the turn the tracks measured.
+      if (two_view_) two_view_->update(frame.grey, slam_.state());
       measurement = slam_.measure(frame.grey);
     }
     visible_ = measurement.visible;
@@ -305,6 +311,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       !weak.empty()) {
     result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;
+    if (two_view_) two_view_->lost();
     // Nothing but the board anchors a map started from it: its filter restarts from the board's
     // next view rather than run on unanchored. A board-free one runs on (relocalisation above).
     if (init_ != InitSource::None) {
@@ -315,6 +322,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   }
   trusted_id_limit_ = slam_.nextFeatureId();
   slam_.rememberPosedMap();
+  if (two_view_) two_view_->posed(slam_.T_world_camera().R(), slam_.poseCovariance().bottomRightCorner<3, 3>().trace() / 3);
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();

@@ -51,6 +51,7 @@ class MonoslamTracker : public Tracker {
   bool want_overlay_ = false;
   std::optional<SE3> T_world_camera_init_;
   std::optional<PresenceGatedDetector> board_detector_;  // with a board (not --init none)
+  std::optional<TwoViewOrientation> two_view_;  // --init none with two_view_orientation.enabled
 
   EkfSlam slam_;
   PoseReporting reporting_;

@@ -344,3 +344,69 @@ TEST(EkfUpdate, IteratedUpdateReachesThePnpSolutionFromAFarPrior) {
 
 }  // namespace
 }  // namespace slamcmp
+
+namespace slamcmp {
+namespace {
+
+// The camera alone, its position and the rotation vector of a right perturbation (R = R_0 exp(theta))
+// with covariance `pose`, mapped to (r, q) by q = q_0 (1, theta / 2).
+EkfState stateWithPoseCovariance(const SE3& T_world_camera, const Eigen::Matrix<double, 6, 6>& pose) {
+  EkfState s;
+  s.reset(T_world_camera, Eigen::Matrix<double, 13, 13>::Identity() * 1e-6);
+  const Vec4 q = s.q();
+  Eigen::Matrix<double, 7, 6> G = Eigen::Matrix<double, 7, 6>::Zero();
+  G.topLeftCorner<3, 3>().setIdentity();
+  G.block<1, 3>(3, 3) = -0.5 * q.tail<3>().transpose();
+  G.block<3, 3>(4, 3) = 0.5 * (q(0) * Mat3::Identity() + skew(q.tail<3>()));
+  s.P().topLeftCorner<7, 7>() = G * pose * G.transpose();
+  return s;
+}
+
+// A scalar Kalman update about each axis: the orientation moves by sigma_p^2 / (sigma_p^2 +
+// sigma_m^2) of the way to the measurement, its variance shrinks as the formula says, and the
+// position moves through its covariance with the turn. A wrong H (sign, frame, factor 2) fails it.
+TEST(OrientationUpdate, IsTheScalarKalmanUpdateAboutEachAxis) {
+  const SE3 T(rotationFromRotvec(Vec3(0.3, -0.5, 0.2)), Vec3(0.1, -0.2, 0.5));
+  const double sp = 0.02, sm = 0.01, c = 0.5 * sp * 0.003;  // rad, rad, cov(r_x, theta_x)
+  Eigen::Matrix<double, 6, 6> pose = Eigen::Matrix<double, 6, 6>::Identity() * 1e-6;
+  pose.bottomRightCorner<3, 3>() = Mat3::Identity() * sp * sp;
+  pose(0, 0) = 0.003 * 0.003;
+  pose(0, 3) = pose(3, 0) = c;
+  const Vec3 delta(0.004, -0.003, 0.002);  // the measurement's turn from the state, camera frame
+  const Mat3 R_measured = T.R() * rotationFromRotvec(delta);
+  for (double sign : {1.0, -1.0}) {  // q and -q: one rotation
+    SCOPED_TRACE(sign);
+    EkfState s = stateWithPoseCovariance(T, pose);
+    s.x().segment<4>(EkfState::kQ) *= sign;  // and its covariance with the rest
+    s.P().middleRows<4>(EkfState::kQ) *= sign;
+    s.P().middleCols<4>(EkfState::kQ) *= sign;
+    ASSERT_TRUE(orientationUpdate(s, R_measured, sm));
+    const double gain = sp * sp / (sp * sp + sm * sm);
+    const Vec3 moved = rotvecFromRotation(T.R().transpose() * s.T_world_camera().R());
+    EXPECT_LT((moved - gain * delta).norm(), 1e-3 * delta.norm());
+    EXPECT_NEAR(s.r().x() - T.t().x(), c / (sp * sp + sm * sm) * delta.x(), 1e-3 * c / (sp * sp) * delta.x());
+    EXPECT_NEAR(s.r().y(), T.t().y(), 1e-9);
+    // Posterior variance about each axis, read back through the same perturbation.
+    const double posterior = sp * sp * sm * sm / (sp * sp + sm * sm);
+    const Vec4 q = s.q();
+    // theta = 2 vec(q_0^-1 q) about the posterior: d theta / d q = 2 [-v, w I - [v]x] for q_0 = (w, v).
+    Eigen::Matrix<double, 3, 4> J;
+    J.col(0) = -q.tail<3>();
+    J.rightCols<3>() = q(0) * Mat3::Identity() - skew(q.tail<3>());
+    J *= 2;
+    const Mat3 P_theta = J * s.P().block<4, 4>(EkfState::kQ, EkfState::kQ) * J.transpose();
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(P_theta(k, k), posterior, 0.01 * posterior);
+  }
+}
+
+TEST(OrientationUpdate, RefusesAnIndefiniteCovariance) {
+  EkfState s;
+  s.reset(SE3(), Eigen::Matrix<double, 13, 13>::Zero());
+  s.P()(EkfState::kQ + 1, EkfState::kQ + 1) = -1;
+  const Eigen::VectorXd before = s.x();
+  EXPECT_FALSE(orientationUpdate(s, rotationFromRotvec(Vec3(0.01, 0, 0)), 1e-3));
+  EXPECT_EQ(s.x(), before);
+}
+
+}  // namespace
+}  // namespace slamcmp
