@@ -553,11 +553,57 @@ TEST(MonoslamTracker, RealVamrCheckerboardFirst150Frames) {
 // fitted 6 of 10 matches with every one behind the camera); it now loses its orientation in the
 // burst instead (15 degrees RMSE, at most 27, not reported lost: README), which the bound lets
 // through while a pose turned round would not be.
+// tum_fr1_rpy board-free: a run's summary, and its orientation error without any fit. A board-free
+// run's world frame is its first camera's, so the ground truth there is R_gt(first)^T R_gt (a
+// position-only Sim(3) leaves the rotation of a turn on the spot ill-determined). A relocalised
+// frame is held to it like any other.
+struct TumRun {
+  nlohmann::json summary;
+  double rms_deg = 0, worst_deg = 0;
+};
+
+TumRun runOnTumFr1Rpy(const std::string& sequence, const std::string& options) {
+  const Trajectory groundtruth = readTrajectory(sequence + "/groundtruth.txt", TrajectoryFormat::Tum);
+  test::TempDir out;
+  const test::CommandResult r = test::runSlamcmp("run --backend monoslam --init none --sequence '" + sequence +
+                                                 "' --out '" + out.path() + "' " + options);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  TumRun run;
+  std::ifstream in(out.file("summary.json"));
+  run.summary = nlohmann::json::parse(in);
+  EXPECT_EQ(run.summary["frames"], 250);
+  EXPECT_EQ(run.summary["tracked"].get<int>() + run.summary["lost"].get<int>(), 250);
+  EXPECT_EQ(run.summary["alignment"], "sim3");
+  EXPECT_GT(run.summary["scale"].get<double>(), 0.0);
+  // Never a made-up pose: trajectory.txt holds exactly the posed frames.
+  const Trajectory estimate = readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum);
+  EXPECT_EQ(estimate.size(), run.summary["tracked"].get<size_t>());
+  const PosePairs pairs = associateByTime(groundtruth, estimate, 0.01);
+  if (pairs.size() == 0 || pairs.estimate.front() != 0u) {
+    ADD_FAILURE() << "the first frame is not posed";
+    return run;
+  }
+  const Mat3 R_first = groundtruth[pairs.groundtruth.front()].T_world_camera.R();
+  double sum2 = 0;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const Mat3 R_gt = R_first.transpose() * groundtruth[pairs.groundtruth[k]].T_world_camera.R();
+    const double e = rotvecFromRotation(R_gt.transpose() * estimate[pairs.estimate[k]].T_world_camera.R()).norm();
+    sum2 += e * e;
+    run.worst_deg = std::max(run.worst_deg, e * 180 / M_PI);
+  }
+  run.rms_deg = std::sqrt(sum2 / pairs.size()) * 180 / M_PI;
+  return run;
+}
+
+std::string seedOption(int seed) { return " --set monoslam.feature_init.seed=" + std::to_string(seed); }
+
 TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const std::string sequence = shared + "/tum_fr1_rpy";
   if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
-  const Trajectory groundtruth = readTrajectory(sequence + "/groundtruth.txt", TrajectoryFormat::Tum);
+  const std::string handheld =
+      "--set monoslam.motion.sigma_alpha=12 --set monoslam.feature_init.min_visible=25"
+      " --set monoslam.search.features_per_frame=30 --set monoslam.map.min_attempts=5";
   struct Run {
     int seed;
     std::string more_options;
@@ -566,46 +612,42 @@ TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   int mostly_posed = 0;
   for (const Run& run : {Run{0, ""}, Run{1, ""}, Run{2, ""}, Run{3, ""}, Run{2, " --set monoslam.motion.sigma_a=8"}}) {
     SCOPED_TRACE("feature_init.seed " + std::to_string(run.seed) + run.more_options);
-    test::TempDir out;
-    const test::CommandResult r = test::runSlamcmp(
-        "run --backend monoslam --init none --sequence '" + sequence + "' --out '" + out.path() +
-        "' --set monoslam.motion.sigma_alpha=12 --set monoslam.feature_init.min_visible=25"
-        " --set monoslam.search.features_per_frame=30 --set monoslam.map.min_attempts=5"
-        " --set monoslam.feature_init.seed=" + std::to_string(run.seed) + run.more_options);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    std::ifstream in(out.file("summary.json"));
-    const nlohmann::json summary = nlohmann::json::parse(in);
-    EXPECT_EQ(summary["frames"], 250);
-    EXPECT_EQ(summary["tracked"].get<int>() + summary["lost"].get<int>(), 250);
-    EXPECT_EQ(summary["alignment"], "sim3");
-    EXPECT_GT(summary["scale"].get<double>(), 0.0);
-    EXPECT_LE(summary["ate"]["trans"]["rmse"].get<double>(), 0.06);
-    // Never a made-up pose: trajectory.txt holds exactly the posed frames.
-    const Trajectory estimate = readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum);
-    ASSERT_EQ(estimate.size(), summary["tracked"].get<size_t>());
-    // Orientation without any fit: a board-free run's world frame is its first camera's, so the
-    // ground truth there is R_gt(first)^T R_gt (a position-only Sim(3) leaves the rotation of a
-    // turn on the spot ill-determined). A relocalised frame is held to it like any other.
-    const PosePairs pairs = associateByTime(groundtruth, estimate, 0.01);
-    ASSERT_EQ(pairs.estimate.front(), 0u);
-    const Mat3 R_first = groundtruth[pairs.groundtruth.front()].T_world_camera.R();
-    double sum2 = 0, worst = 0;
-    for (size_t k = 0; k < pairs.size(); ++k) {
-      const Mat3 R_gt = R_first.transpose() * groundtruth[pairs.groundtruth[k]].T_world_camera.R();
-      const double e = rotvecFromRotation(R_gt.transpose() * estimate[pairs.estimate[k]].T_world_camera.R()).norm();
-      sum2 += e * e;
-      worst = std::max(worst, e);
-    }
-    const double degree = M_PI / 180;
-    EXPECT_LE(worst, (run.more_options.empty() ? 15 : 45) * degree);
+    const TumRun tum = runOnTumFr1Rpy(sequence, handheld + seedOption(run.seed) + run.more_options);
+    EXPECT_LE(tum.summary["ate"]["trans"]["rmse"].get<double>(), 0.06);
+    EXPECT_LE(tum.worst_deg, run.more_options.empty() ? 15 : 45);
     if (run.more_options.empty()) {
-      rms_deg.push_back(std::sqrt(sum2 / pairs.size()) / degree);
-      mostly_posed += summary["tracked"].get<int>() >= 200;
+      rms_deg.push_back(tum.rms_deg);
+      mostly_posed += tum.summary["tracked"].get<int>() >= 200;
     }
   }
   EXPECT_GE(mostly_posed, 3);
   std::sort(rms_deg.begin(), rms_deg.end());
   EXPECT_LE(0.5 * (rms_deg[1] + rms_deg[2]), 7.0);  // the median of the four
+}
+
+// The same with the orientation also measured by two-view geometry (configs/monoslam_handheld.yaml):
+// the filter alone turns 5 % too far (seeds 0-3 5.7, 5.7, 3.6 and 5.9 degrees RMSE, the median 5.7),
+// with the two-view rotations 2.1, 1.9, 1.7 and 2.4 (measured), and the position error halves.
+TEST(MonoslamTracker, RealTumFr1RpyTwoViewOrientation) {
+  SLAMCMP_REQUIRE_SHARED(shared);
+  const std::string sequence = shared + "/tum_fr1_rpy";
+  if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
+  std::vector<double> rms_deg, ate;
+  int mostly_posed = 0;
+  for (int seed = 0; seed < 4; ++seed) {
+    SCOPED_TRACE("feature_init.seed " + std::to_string(seed));
+    const TumRun tum = runOnTumFr1Rpy(sequence, "--config configs/monoslam_handheld.yaml" + seedOption(seed));
+    EXPECT_LE(tum.worst_deg, 8.0);
+    rms_deg.push_back(tum.rms_deg);
+    ate.push_back(tum.summary["ate"]["trans"]["rmse"].get<double>());
+    mostly_posed += tum.summary["tracked"].get<int>() >= 200;
+  }
+  EXPECT_GE(mostly_posed, 3);
+  std::sort(rms_deg.begin(), rms_deg.end());
+  std::sort(ate.begin(), ate.end());
+  EXPECT_LE(0.5 * (rms_deg[1] + rms_deg[2]), 2.5);  // the median of the four
+  EXPECT_LE(rms_deg[3], 3.0);
+  EXPECT_LE(0.5 * (ate[1] + ate[2]), 0.03);
 }
 
 // Without a board in view the tracker waits, says why, and never reports a pose.
