@@ -138,19 +138,9 @@ bool kalmanUpdate(EkfState& state, Eigen::MatrixXd W, const Eigen::MatrixXd& S, 
 }
 
 bool orientationUpdate(EkfState& state, const Mat3& R_world_camera, double sigma_rad) {
-  const Quat q_m(R_world_camera);
-  const double aw = q_m.w(), ax = -q_m.x(), ay = -q_m.y(), az = -q_m.z();  // q_m^-1
-  Eigen::Matrix4d L;  // e = q_m^-1 q = L q
-  L << aw, -ax, -ay, -az,
-       ax, aw, -az, ay,
-       ay, az, aw, -ax,
-       az, -ay, ax, aw;
-  Eigen::Matrix<double, 3, 4> H = 2.0 * L.bottomRows<3>();
-  Vec3 h = H * state.q();
-  if ((L.row(0) * state.q())(0) < 0) {  // q and -q are one rotation: the error's short way round
-    H = -H;
-    h = -h;
-  }
+  // h(q) = H q is odd in q, so q and -q (one rotation) give the same update.
+  const Eigen::Matrix<double, 3, 4> H = 2.0 * quatLeft(quatVector(Quat(R_world_camera).conjugate())).bottomRows<3>();
+  const Vec3 h = H * state.q();
   const int kQ = EkfState::kQ;
   Eigen::MatrixXd W = state.P().middleCols<4>(kQ) * H.transpose();
   const Eigen::MatrixXd S = H * W.middleRows<4>(kQ) + Mat3::Identity() * (sigma_rad * sigma_rad);

@@ -62,8 +62,9 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
                     const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);
 
 // The camera's orientation measured whole (R_world_camera, e.g. by two-view geometry) with std
-// sigma_rad about each axis: the residual is the rotation vector 2 vec(q_m^-1 q) of the camera's
-// error in its own frame, linear in q (H = 2 [0 I] L(q_m^-1), L the left quaternion product).
+// sigma_rad about each axis: the residual is 2 vec(q_m^-1 q), to first order the rotation vector
+// of the camera's error in its own frame, linear in q (H = 2 [0 I] L(q_m^-1), L the left
+// quaternion product).
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool orientationUpdate(EkfState& state, const Mat3& R_world_camera, double sigma_rad);
 

@@ -1,10 +1,10 @@
 #pragma once
 // The camera's orientation from two-view geometry to each of the last few frames (the thesis's
-// section 3.3 over n views): each earlier frame's orientation composed with the essential
-// matrix's rotation from it, averaged. On tum_fr1_rpy (hand-held, turning about a point 8 cm
-// behind the camera) a rotation fitted with the translation turns as the ground truth does, where
-// a filter that cannot yet see the parallax, or a rotation fitted alone, turns 5-7 % too far
-// (docs/findings.md, sessions 31 and 32).
+// section 3.3 over n views): each earlier frame's orientation composed with the rotation of the
+// two-view motion from it (estimated with its translation), averaged. On tum_fr1_rpy (hand-held,
+// turning about a point 8 cm behind the camera) a rotation fitted with the translation turns as
+// the ground truth does, where a filter that cannot yet see the parallax, or a rotation fitted
+// alone, turns 5-7 % too far (docs/findings.md, sessions 31 and 32).
 // Pose direction: R_world_camera (p_world = R p_camera), as the EKF's state.
 #include <deque>
 #include <optional>
@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "core/geometry.h"
-#include "geometry/two_view_motion.h"  // refineTwoViewMotion
 
 namespace slamcmp {
 
@@ -22,7 +21,7 @@ struct MultiBaselineRotationOptions {
   int refine_iterations = 10;  // Levenberg-Marquardt iterations on the Sampson distances, from each start
   double max_error_px = 1.0;   // the Cauchy loss's scale on the Sampson distances, pixels
   // A motion whose rotation is this far from the rotation fitted to the same tracks alone is taken
-  // for a wrong solution, and the fitted rotation is used.
+  // for a wrong solution (the twisted pair, a wrong valley), and the fitted rotation is used.
   double max_rotation_disagreement_deg = 5.0;
   // Views whose composed orientation is this far from the views' mean are left out of it.
   double max_spread_deg = 2.0;
@@ -30,11 +29,14 @@ struct MultiBaselineRotationOptions {
   void visit(V& v) {
     v("max_gap", max_gap, "an orientation is composed from each of the views up to this many frames back");
     v("min_shared", min_shared, "tracks two views must share");
-    v("refine_iterations", refine_iterations, "Levenberg-Marquardt iterations on the Sampson distances from each start");
-    v("max_error_px", max_error_px, "pixels, the scale of the Cauchy loss on the tracks' Sampson distances to the two-view motion");
+    v("refine_iterations", refine_iterations,
+      "Levenberg-Marquardt iterations on the Sampson distances from each start");
+    v("max_error_px", max_error_px,
+      "pixels, the scale of the Cauchy loss on the tracks' Sampson distances to the two-view motion");
     v("max_rotation_disagreement_deg", max_rotation_disagreement_deg,
       "degrees; a two-view rotation this far from the tracks' rotation-only fit is replaced by the fit");
-    v("max_spread_deg", max_spread_deg, "degrees; views whose composed orientation is this far from the mean are left out");
+    v("max_spread_deg", max_spread_deg,
+      "degrees; views whose composed orientation is this far from the mean are left out");
   }
   void check() const;
 };
@@ -44,10 +46,11 @@ using FrameTracks = std::vector<std::pair<int, Vec2>>;
 
 class MultiBaselineRotation {
  public:
+  // focal_px (> 0) converts max_error_px to normalised units.
   MultiBaselineRotation(const MultiBaselineRotationOptions& options, double focal_px);
 
-  // This frame's R_world_camera from the remembered frames up to max_gap back; nullopt if no view shares
-  // enough tracks. *views: how many were averaged.
+  // This frame's R_world_camera from the remembered frames up to max_gap back; nullopt if no view
+  // shares enough tracks. *views: how many were averaged.
   std::optional<Mat3> measure(const FrameTracks& tracks, int* views = nullptr) const;
   // The frame just measured, with its orientation (the filter's, after its update), for later frames.
   void remember(FrameTracks tracks, const Mat3& R_world_camera);
@@ -58,7 +61,8 @@ class MultiBaselineRotation {
     FrameTracks tracks;  // sorted by id
     Mat3 R_world_camera;
   };
-  // R_b_a (p_b = R p_a) between an earlier view and the current tracks; nullopt if too few shared.
+  // R_b_a (p_b = R p_a) between an earlier view and the current tracks; nullopt if too few are
+  // shared.
   std::optional<Mat3> relativeRotation(const FrameTracks& a, const FrameTracks& b) const;
 
   MultiBaselineRotationOptions options_;

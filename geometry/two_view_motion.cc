@@ -1,6 +1,7 @@
 #include "geometry/two_view_motion.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "core/statistics.h"
@@ -43,7 +44,10 @@ double signedSampson(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
 }  // namespace
 
 SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int iterations,
-                        double cauchy_scale) {
+                        double cauchy_scale, double* final_cost) {
+  if (a.size() != b.size()) throw std::invalid_argument("refineTwoViewMotion: views of different sizes");
+  if (!(cauchy_scale >= 0 && std::isfinite(cauchy_scale)))
+    throw std::invalid_argument("refineTwoViewMotion: cauchy_scale must be finite and >= 0");
   using Vec5 = Eigen::Matrix<double, 5, 1>;
   const int n = static_cast<int>(a.size());
   auto apply = [](const SE3& T, const Vec5& d) {
@@ -100,6 +104,7 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     }
     if (!improved) break;
   }
+  if (final_cost) *final_cost = cost(r);
   return T;
 }
 

@@ -51,8 +51,9 @@ TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::ve
 // over the motion's 5 degrees of freedom (rotation, and the translation direction on the unit
 // sphere), from T_b_a; numeric Jacobian. cauchy_scale > 0 (normalised units): the Cauchy loss
 // c^2 log(1 + r^2 / c^2) instead of the squares, iteratively reweighted (tracks far off the motion
-// barely pull it).
+// barely pull it). *cost: the loss at the result. Throws std::invalid_argument if the sizes differ
+// or cauchy_scale is negative or not finite.
 SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
-                        int iterations, double cauchy_scale = 0);
+                        int iterations, double cauchy_scale = 0, double* cost = nullptr);
 
 }  // namespace slamcmp

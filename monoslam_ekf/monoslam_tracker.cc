@@ -50,6 +50,8 @@ MonoslamTracker::MonoslamTracker(const TrackerContext& context, const MonoslamOp
     if (options_.two_view_orientation.enabled) two_view_.emplace(camera_, options_.two_view_orientation);
     return;
   }
+  if (options_.two_view_orientation.enabled)
+    throw InputError("monoslam.two_view_orientation.enabled", "is for board-free runs only (--init none)");
   if (!context.target)
     throw InputError("--target", "the monoslam back-end needs the board (target.yaml): its corners start the map");
   target_ = *context.target;
@@ -322,7 +324,10 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   }
   trusted_id_limit_ = slam_.nextFeatureId();
   slam_.rememberPosedMap();
-  if (two_view_) two_view_->posed(slam_.T_world_camera().R(), slam_.poseCovariance().bottomRightCorner<3, 3>().trace() / 3);
+  if (two_view_) {
+    const double rotation_variance = slam_.poseCovariance().bottomRightCorner<3, 3>().trace() / 3;
+    two_view_->posed(slam_.T_world_camera().R(), rotation_variance);
+  }
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();

@@ -4,7 +4,6 @@
 // are young (a hand-held camera turning fast) cannot see the parallax of the camera's swing about
 // the hand, and takes part of it for rotation; an essential matrix estimates the rotation together
 // with the translation (tum_fr1_rpy: docs/findings.md, session 32).
-#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -16,6 +15,16 @@
 
 namespace slamcmp {
 
+// More and closer features than the tracker's defaults: on tum_fr1_rpy 150 of them gave 3.8-4.4
+// degrees where 250 give 1.9-2.1 (seeds 0-1).
+inline FeatureTrackerOptions twoViewTrackOptions() {
+  FeatureTrackerOptions o;
+  o.max_features = 250;
+  o.min_features = 150;
+  o.min_distance_px = 10;
+  return o;
+}
+
 struct TwoViewOrientationOptions {
   bool enabled = false;    // off: the SceneLib filter as it was
   // The measured orientation's std per axis, degrees, to which the last posed frame's orientation
@@ -25,18 +34,20 @@ struct TwoViewOrientationOptions {
   double sigma_deg = 0.2;
   int lk_window_px = 21;   // Lucas-Kanade window side, pixels
   int lk_levels = 3;       // pyramid levels above the image
-  FeatureTrackerOptions tracks{250, 150, 0.01, 10, 5, 0.5, 8};
+  FeatureTrackerOptions tracks = twoViewTrackOptions();
   MultiBaselineRotationOptions rotation;
   template <class V>
   void visit(V& v) {
     v("enabled", enabled, "--init none: the orientation also measured by two-view geometry to the last frames");
-    v("sigma_deg", sigma_deg, "degrees, the measured orientation's std per axis (the last posed frame's orientation variance is added)");
+    v("sigma_deg", sigma_deg,
+      "degrees, the measured orientation's std per axis (the last posed frame's orientation variance is added)");
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels");
     v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
     v("tracks", tracks, "the features tracked for the two-view geometry");
     v("rotation", rotation, "the orientation composed from the earlier views");
   }
   void check() const;
+  void checkImage(cv::Size image) const;  // the Lucas-Kanade window fits in the image
 };
 
 class TwoViewOrientation {
@@ -44,8 +55,8 @@ class TwoViewOrientation {
   TwoViewOrientation(const CameraModel& camera, const TwoViewOrientationOptions& options);
 
   // Tracks this frame's features from the last one's and, with earlier posed frames, updates the
-  // state's orientation. Returns how many earlier views the measurement averaged (0: none).
-  int update(const cv::Mat& grey, EkfState& state);
+  // state's orientation.
+  void update(const cv::Mat& grey, EkfState& state);
   // The frame just updated was posed: its tracks and the filter's orientation (after every update)
   // are kept for later frames; rotation_variance (rad^2, per axis) is that orientation's.
   void posed(const Mat3& R_world_camera, double rotation_variance);

@@ -342,12 +342,6 @@ TEST(EkfUpdate, IteratedUpdateReachesThePnpSolutionFromAFarPrior) {
   EXPECT_LT(std::sqrt(squares / (2 * observations.size() - 6)), 0.08);  // the 0.05 px noise, not the prior's miss
 }
 
-}  // namespace
-}  // namespace slamcmp
-
-namespace slamcmp {
-namespace {
-
 // The camera alone, its position and the rotation vector of a right perturbation (R = R_0 exp(theta))
 // with covariance `pose`, mapped to (r, q) by q = q_0 (1, theta / 2).
 EkfState stateWithPoseCovariance(const SE3& T_world_camera, const Eigen::Matrix<double, 6, 6>& pose) {
@@ -374,7 +368,7 @@ TEST(OrientationUpdate, IsTheScalarKalmanUpdateAboutEachAxis) {
   pose(0, 3) = pose(3, 0) = c;
   const Vec3 delta(0.004, -0.003, 0.002);  // the measurement's turn from the state, camera frame
   const Mat3 R_measured = T.R() * rotationFromRotvec(delta);
-  for (double sign : {1.0, -1.0}) {  // q and -q: one rotation
+  for (double sign : {1.0, -1.0}) {  // q and -q, one rotation: the same update
     SCOPED_TRACE(sign);
     EkfState s = stateWithPoseCovariance(T, pose);
     s.x().segment<4>(EkfState::kQ) *= sign;  // and its covariance with the rest
@@ -404,8 +398,10 @@ TEST(OrientationUpdate, RefusesAnIndefiniteCovariance) {
   s.reset(SE3(), Eigen::Matrix<double, 13, 13>::Zero());
   s.P()(EkfState::kQ + 1, EkfState::kQ + 1) = -1;
   const Eigen::VectorXd before = s.x();
+  const Eigen::MatrixXd P_before = s.P();
   EXPECT_FALSE(orientationUpdate(s, rotationFromRotvec(Vec3(0.01, 0, 0)), 1e-3));
   EXPECT_EQ(s.x(), before);
+  EXPECT_EQ(s.P(), P_before);
 }
 
 }  // namespace

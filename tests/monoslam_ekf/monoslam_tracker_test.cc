@@ -498,6 +498,52 @@ TEST(MonoslamTracker, RollingShutterReadoutKeepsAHandHeldTurn) {
   EXPECT_LT(computeStatistics(rolling_errors).rmse, 0.6 * computeStatistics(global_errors).rmse);
 }
 
+// The README's hand-held options, and with them the orientation measured by two-view geometry.
+const std::string kHandheldConfig = std::string(SLAMCMP_SOURCE_DIR) + "/configs/monoslam_handheld.yaml";
+
+// handheld_rpy (global shutter) board-free with configs/monoslam_handheld.yaml: the tracks, the
+// two-view rotations and their update run every frame. The render's filter does not over-turn
+// (0.04 degrees RMSE over the full render), and the two-view rotations, over a scene that is mostly
+// the board's wall, cost it accuracy (0.43 degrees): README. Measured here (120 frames, one sample
+// per pixel): 0.58 degrees RMSE, at most 3.7.
+TEST(MonoslamTracker, TwoViewOrientationFollowsAHandHeldTurn) {
+  test::TempDir dir;
+  SynthOptions render;
+  render.preset = "handheld_rpy";
+  render.frames = 120;
+  render.supersample = 1;
+  writeSyntheticSequence(render, dir.path());
+  const cv::FileStorage fs(kHandheldConfig, cv::FileStorage::READ);
+  MonoslamOptions options;
+  loadOptions(fs["monoslam"], kHandheldConfig, options);
+  ASSERT_TRUE(options.two_view_orientation.enabled);
+  const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt, -1, options);
+  EXPECT_EQ(run.tracked, 120);
+  const Statistics errors = computeStatistics(turnErrorsDeg(dir.path(), run));
+  std::printf("orientation RMSE %.3f deg, at most %.3f\n", errors.rmse, errors.max);
+  EXPECT_LT(errors.rmse, 1.0);
+}
+
+// The two-view orientation is a board-free run's: with a board it is refused, not ignored.
+TEST(MonoslamTracker, TwoViewOrientationWithABoardIsRefused) {
+  TrackerContext context;
+  context.camera = CameraModel::fromOpenCV(
+      (cv::Mat_<double>(3, 3) << 500, 0, 319.5, 0, 500, 239.5, 0, 0, 1), cv::Mat::zeros(1, 5, CV_64F), {640, 480});
+  context.target = ChessboardTarget{9, 6, 0.04};
+  MonoslamOptions options;
+  options.two_view_orientation.enabled = true;
+  EXPECT_THROW(MonoslamTracker(context, options), InputError);
+  context.init = InitSource::None;
+  EXPECT_NO_THROW(MonoslamTracker(context, options));
+  options.two_view_orientation.lk_window_px = 4;
+  EXPECT_THROW(options.two_view_orientation.check(), OptionError);
+  options.two_view_orientation.lk_window_px = 21;
+  options.two_view_orientation.sigma_deg = 0;
+  EXPECT_THROW(options.two_view_orientation.check(), OptionError);
+  options.two_view_orientation.sigma_deg = 0.2;
+  EXPECT_THROW(options.two_view_orientation.checkImage(cv::Size(20, 20)), OptionError);
+}
+
 // wall_turn seed 1: lost facing the other wall (too few measurements), the filter restarts from
 // the board when the board is wholly back. The first frame of the return gives the restart its
 // motion (the camera is still turning, 0.4 rad/s, which a restart taken for still would not
@@ -536,23 +582,6 @@ TEST(MonoslamTracker, RealVamrCheckerboardFirst150Frames) {
   EXPECT_LT(run.ateRmse(), 0.03);
 }
 
-// Issue 18's real sequence: TUM RGB-D fr1_rpy (250 frames, handheld Kinect, 40-170 degrees/s of
-// rotation, motion capture), run as a user runs it: `slamcmp run --init none`, with the motion
-// noise of a hand-held camera at 30 Hz (sigma_alpha 12 rad/s^2; the default 3 suits the 10 fps
-// presets) and Civera's feature management (25 features kept visible, 30 measured a frame, judged
-// after 5 attempts). Which frames a run keeps through the 170 degrees/s burst near frame 113 turns
-// on the features it holds there, so single seeds come and go with any change to where features
-// start: seeds 0-3 are held together. Measured: 250 / 248 / 114 / 250 frames posed (seed 1 lost
-// in frames 116-117 and relocalised, seed 2 lost from frame 114 on), orientation error against the
-// ground truth RMSE 5.7 / 5.7 / 3.6 / 5.9 degrees, at most 10.0 / 13.7 / 6.1 / 8.5, Sim(3) ATE 4.9 /
-// 4.5 / 2.6 / 4.2 cm (before new features avoided look-alikes, feature_init.distinct: 250 / 250 /
-// 250 / 121, 3.7 / 6.2 / 5.4 / 6.2, at most 6.0 / 11.1 / 8.9 / 13.5, 3.9 / 4.5 / 3.8 / 3.5 cm).
-// Not met: the issue's 2 degrees and 3 cm (the filter turns about 6 % more than the ground truth
-// on this sequence; synthetic runs turn as their ground truth to 1 %). Lost frames are reported,
-// never invented. Seed 2 with motion.sigma_a 8 was once relocalised 180 degrees off (a pose that
-// fitted 6 of 10 matches with every one behind the camera); it now loses its orientation in the
-// burst instead (15 degrees RMSE, at most 27, not reported lost: README), which the bound lets
-// through while a pose turned round would not be.
 // tum_fr1_rpy board-free: a run's summary, and its orientation error without any fit. A board-free
 // run's world frame is its first camera's, so the ground truth there is R_gt(first)^T R_gt (a
 // position-only Sim(3) leaves the rotation of a turn on the spot ill-determined). A relocalised
@@ -566,9 +595,13 @@ TumRun runOnTumFr1Rpy(const std::string& sequence, const std::string& options) {
   const Trajectory groundtruth = readTrajectory(sequence + "/groundtruth.txt", TrajectoryFormat::Tum);
   test::TempDir out;
   const test::CommandResult r = test::runSlamcmp("run --backend monoslam --init none --sequence '" + sequence +
-                                                 "' --out '" + out.path() + "' " + options);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
+                                                 "' --out '" + out.path() + "' --config '" + kHandheldConfig +
+                                                 "' " + options);
   TumRun run;
+  if (r.exit_code != 0) {
+    ADD_FAILURE() << r.err;
+    return run;
+  }
   std::ifstream in(out.file("summary.json"));
   run.summary = nlohmann::json::parse(in);
   EXPECT_EQ(run.summary["frames"], 250);
@@ -577,7 +610,10 @@ TumRun runOnTumFr1Rpy(const std::string& sequence, const std::string& options) {
   EXPECT_GT(run.summary["scale"].get<double>(), 0.0);
   // Never a made-up pose: trajectory.txt holds exactly the posed frames.
   const Trajectory estimate = readTrajectory(out.file("trajectory.txt"), TrajectoryFormat::Tum);
-  EXPECT_EQ(estimate.size(), run.summary["tracked"].get<size_t>());
+  if (estimate.size() != run.summary["tracked"].get<size_t>()) {
+    ADD_FAILURE() << "trajectory.txt holds " << estimate.size() << " poses";
+    return run;
+  }
   const PosePairs pairs = associateByTime(groundtruth, estimate, 0.01);
   if (pairs.size() == 0 || pairs.estimate.front() != 0u) {
     ADD_FAILURE() << "the first frame is not posed";
@@ -597,13 +633,28 @@ TumRun runOnTumFr1Rpy(const std::string& sequence, const std::string& options) {
 
 std::string seedOption(int seed) { return " --set monoslam.feature_init.seed=" + std::to_string(seed); }
 
+// Issue 18's real sequence: TUM RGB-D fr1_rpy (250 frames, handheld Kinect, 40-170 degrees/s of
+// rotation, motion capture), run as a user runs it: `slamcmp run --init none`, with the motion
+// noise of a hand-held camera at 30 Hz (sigma_alpha 12 rad/s^2; the default 3 suits the 10 fps
+// presets) and Civera's feature management (25 features kept visible, 30 measured a frame, judged
+// after 5 attempts). Which frames a run keeps through the 170 degrees/s burst near frame 113 turns
+// on the features it holds there, so single seeds come and go with any change to where features
+// start: seeds 0-3 are held together. Measured: 250 / 248 / 114 / 250 frames posed (seed 1 lost
+// in frames 116-117 and relocalised, seed 2 lost from frame 114 on), orientation error against the
+// ground truth RMSE 5.7 / 5.7 / 3.6 / 5.9 degrees, at most 10.0 / 13.7 / 6.1 / 8.5, Sim(3) ATE 4.9 /
+// 4.5 / 2.6 / 4.2 cm (before new features avoided look-alikes, feature_init.distinct: 250 / 250 /
+// 250 / 121, 3.7 / 6.2 / 5.4 / 6.2, at most 6.0 / 11.1 / 8.9 / 13.5, 3.9 / 4.5 / 3.8 / 3.5 cm).
+// Not met: the issue's 2 degrees and 3 cm (the filter turns about 6 % more than the ground truth
+// on this sequence; synthetic runs turn as their ground truth to 1 %). Lost frames are reported,
+// never invented. Seed 2 with motion.sigma_a 8 was once relocalised 180 degrees off (a pose that
+// fitted 6 of 10 matches with every one behind the camera); it now loses its orientation in the
+// burst instead (15 degrees RMSE, at most 27, not reported lost: README), which the bound lets
+// through while a pose turned round would not be.
 TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const std::string sequence = shared + "/tum_fr1_rpy";
   if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
-  const std::string handheld =
-      "--set monoslam.motion.sigma_alpha=12 --set monoslam.feature_init.min_visible=25"
-      " --set monoslam.search.features_per_frame=30 --set monoslam.map.min_attempts=5";
+  const std::string filter_alone = "--set monoslam.two_view_orientation.enabled=0";
   struct Run {
     int seed;
     std::string more_options;
@@ -612,7 +663,7 @@ TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   int mostly_posed = 0;
   for (const Run& run : {Run{0, ""}, Run{1, ""}, Run{2, ""}, Run{3, ""}, Run{2, " --set monoslam.motion.sigma_a=8"}}) {
     SCOPED_TRACE("feature_init.seed " + std::to_string(run.seed) + run.more_options);
-    const TumRun tum = runOnTumFr1Rpy(sequence, handheld + seedOption(run.seed) + run.more_options);
+    const TumRun tum = runOnTumFr1Rpy(sequence, filter_alone + seedOption(run.seed) + run.more_options);
     EXPECT_LE(tum.summary["ate"]["trans"]["rmse"].get<double>(), 0.06);
     EXPECT_LE(tum.worst_deg, run.more_options.empty() ? 15 : 45);
     if (run.more_options.empty()) {
@@ -627,7 +678,8 @@ TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
 
 // The same with the orientation also measured by two-view geometry (configs/monoslam_handheld.yaml):
 // the filter alone turns 5 % too far (seeds 0-3 5.7, 5.7, 3.6 and 5.9 degrees RMSE, the median 5.7),
-// with the two-view rotations 2.1, 1.9, 1.7 and 2.4 (measured), and the position error halves.
+// with the two-view rotations (measured) 2.1, 1.9, 1.7 and 2.4, at most 4.0-4.6, Sim(3) ATE 1.8, 1.7,
+// 2.8 and 1.9 cm (4.9, 4.5, 2.6 and 4.2 without), 248, 250, 241 and 250 frames posed.
 TEST(MonoslamTracker, RealTumFr1RpyTwoViewOrientation) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const std::string sequence = shared + "/tum_fr1_rpy";
@@ -636,8 +688,8 @@ TEST(MonoslamTracker, RealTumFr1RpyTwoViewOrientation) {
   int mostly_posed = 0;
   for (int seed = 0; seed < 4; ++seed) {
     SCOPED_TRACE("feature_init.seed " + std::to_string(seed));
-    const TumRun tum = runOnTumFr1Rpy(sequence, "--config configs/monoslam_handheld.yaml" + seedOption(seed));
-    EXPECT_LE(tum.worst_deg, 8.0);
+    const TumRun tum = runOnTumFr1Rpy(sequence, seedOption(seed));
+    EXPECT_LE(tum.worst_deg, 6.0);
     rms_deg.push_back(tum.rms_deg);
     ate.push_back(tum.summary["ate"]["trans"]["rmse"].get<double>());
     mostly_posed += tum.summary["tracked"].get<int>() >= 200;
