@@ -16,9 +16,10 @@ constexpr double kDegree = M_PI / 180.0;
 
 Vec3 bearing(const Vec2& xy) { return Vec3(xy.x(), xy.y(), 1.0).normalized(); }
 
-FrameTracks sortedById(FrameTracks tracks) {
-  std::sort(tracks.begin(), tracks.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  return tracks;
+void requireSortedById(const FrameTracks& tracks) {
+  const auto by_id = [](const auto& x, const auto& y) { return x.first < y.first; };
+  if (!std::is_sorted(tracks.begin(), tracks.end(), by_id))
+    throw std::invalid_argument("MultiBaselineRotation: tracks not sorted by id");
 }
 
 }  // namespace
@@ -84,8 +85,8 @@ std::optional<Mat3> MultiBaselineRotation::relativeRotation(const FrameTracks& a
   return best.R();
 }
 
-std::optional<Mat3> MultiBaselineRotation::measure(const FrameTracks& unsorted, int* views) const {
-  const FrameTracks tracks = sortedById(unsorted);
+std::optional<Mat3> MultiBaselineRotation::measure(const FrameTracks& tracks, int* views) const {
+  requireSortedById(tracks);
   std::vector<Mat3> candidates;
   for (const View& view : frames_) {
     const std::optional<Mat3> R_now_then = relativeRotation(view.tracks, tracks);
@@ -114,7 +115,8 @@ std::optional<Mat3> MultiBaselineRotation::measure(const FrameTracks& unsorted, 
 }
 
 void MultiBaselineRotation::remember(FrameTracks tracks, const Mat3& R_world_camera) {
-  frames_.push_front(View{sortedById(std::move(tracks)), R_world_camera});
+  requireSortedById(tracks);
+  frames_.push_front(View{std::move(tracks), R_world_camera});
   while (static_cast<int>(frames_.size()) > options_.max_gap) frames_.pop_back();
 }
 

@@ -41,7 +41,9 @@ struct MultiBaselineRotationOptions {
   void check() const;
 };
 
-// One frame's tracks: (track id, undistorted normalised coordinates).
+// One frame's tracks: (track id, undistorted normalised coordinates), sorted by id (as a
+// FeatureTracker holds them: ids grow as tracks start). Unsorted ones are refused
+// (std::invalid_argument).
 using FrameTracks = std::vector<std::pair<int, Vec2>>;
 
 class MultiBaselineRotation {

@@ -70,6 +70,7 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
   };
   SE3 T = T_b_a;
   Eigen::VectorXd r = residuals(T);
+  double r_cost = cost(r);
   double lambda = 1e-3;
   for (int it = 0; it < iterations; ++it) {
     Eigen::MatrixXd J(n, 5);
@@ -93,10 +94,12 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
       const Vec5 d = A.ldlt().solve(-g);
       const SE3 candidate = apply(T, d);
       const Eigen::VectorXd rc = residuals(candidate);
-      if (cost(rc) < cost(r)) {
+      const double rc_cost = cost(rc);
+      if (rc_cost < r_cost) {
         improved = true;
         T = candidate;
         r = rc;
+        r_cost = rc_cost;
         lambda *= 0.1;
       } else {
         lambda *= 10;
@@ -104,7 +107,7 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     }
     if (!improved) break;
   }
-  if (final_cost) *final_cost = cost(r);
+  if (final_cost) *final_cost = r_cost;
   return T;
 }
 

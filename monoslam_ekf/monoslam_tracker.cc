@@ -324,14 +324,11 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   }
   trusted_id_limit_ = slam_.nextFeatureId();
   slam_.rememberPosedMap();
-  if (two_view_) {
-    const double rotation_variance = slam_.poseCovariance().bottomRightCorner<3, 3>().trace() / 3;
-    two_view_->posed(slam_.T_world_camera().R(), rotation_variance);
-  }
   result.status = TrackStatus::Tracked;
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
   result.pose_covariance = slam_.poseCovariance();
+  if (two_view_) two_view_->posed(result.T_world_camera->R(), result.pose_covariance->bottomRightCorner<3, 3>().trace() / 3);
   if (result.measured == 0 && frames_unmeasured_ > 0 && !relocalised)
     result.reason = "no feature matched: prediction only";
   return result;

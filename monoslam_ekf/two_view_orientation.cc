@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <opencv2/video/tracking.hpp>
 
@@ -32,7 +33,7 @@ void TwoViewOrientation::update(const cv::Mat& grey, EkfState& state) {
   tracker_.replenish(grey);
   pyramid_ = std::move(pyramid);
   tracks_.clear();
-  for (const Feature& f : tracker_.features())
+  for (const Feature& f : tracker_.features())  // in the tracker's order: ids ascending
     tracks_.emplace_back(f.id, camera_.undistortPixel(Vec2(f.uv.x, f.uv.y)));
   const std::optional<Mat3> R_world_camera = rotation_.measure(tracks_);
   if (!R_world_camera) return;
@@ -41,7 +42,7 @@ void TwoViewOrientation::update(const cv::Mat& grey, EkfState& state) {
 }
 
 void TwoViewOrientation::posed(const Mat3& R_world_camera, double rotation_variance) {
-  rotation_.remember(tracks_, R_world_camera);
+  rotation_.remember(std::move(tracks_), R_world_camera);  // update() makes this frame's afresh
   reference_variance_ = rotation_variance;
 }
 

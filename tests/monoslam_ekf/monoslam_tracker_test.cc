@@ -69,6 +69,17 @@ RunResult runTracker(const std::string& path, InitSource init, const std::option
   return run;
 }
 
+// The README's hand-held options, and with them the orientation measured by two-view geometry.
+const std::string kHandheldConfig = std::string(SLAMCMP_SOURCE_DIR) + "/configs/monoslam_handheld.yaml";
+
+// The `monoslam:` section of an option file.
+MonoslamOptions loadMonoslamOptions(const std::string& file) {
+  const cv::FileStorage fs(file, cv::FileStorage::READ);
+  MonoslamOptions options;
+  loadOptions(fs["monoslam"], file, options);
+  return options;
+}
+
 // The largest position error of the posed frames, metres.
 double worstError(const RunResult& run) {
   double worst = 0;
@@ -83,13 +94,16 @@ double sim3Ate(const std::string& path, const RunResult& run) {
   return evaluateTrajectory(*openSequence(path).groundtruth, run.estimate, options).ate_trans_stats.rmse;
 }
 
-// The first `frames` of `preset` into `dir`, at one sample per pixel unless said (fast, still textured).
-void renderFast(const std::string& preset, int frames, const std::string& dir, int seed = 1, int supersample = 1) {
+// The first `frames` of `preset` into `dir` (0: its own length), at one sample per pixel unless
+// said (fast, still textured), the rows read over rolling_shutter seconds (0: a global shutter).
+void renderFast(const std::string& preset, int frames, const std::string& dir, int seed = 1, int supersample = 1,
+                double rolling_shutter = 0) {
   SynthOptions options;
   options.preset = preset;
   options.frames = frames;
   options.seed = seed;
   options.supersample = supersample;
+  options.rolling_shutter = rolling_shutter;
   writeSyntheticSequence(options, dir);
 }
 
@@ -166,13 +180,7 @@ TEST_F(MonoslamOnTv1, BoardFreeRunRelocalisesAfterABlackout) {
 // measured noise brings its NEES towards the 6 dof and its error down. SceneLib's settings are
 // one file away (configs/scenelib.yaml).
 TEST_F(MonoslamOnTv1, PresetNoiseFileBringsTheNeesTowardsItsDof) {
-  const auto load = [](const std::string& file) {
-    const cv::FileStorage fs(file, cv::FileStorage::READ);
-    MonoslamOptions options;
-    loadOptions(fs["monoslam"], file, options);
-    return options;
-  };
-  const MonoslamOptions scenelib = load("configs/scenelib.yaml");
+  const MonoslamOptions scenelib = loadMonoslamOptions("configs/scenelib.yaml");
   EXPECT_EQ(scenelib.filter.motion.sigma_a, 4.0);
   EXPECT_EQ(scenelib.filter.motion.sigma_alpha, 6.0);
   EXPECT_EQ(scenelib.filter.feature_init.promote_ratio, 0.3);
@@ -180,7 +188,7 @@ TEST_F(MonoslamOnTv1, PresetNoiseFileBringsTheNeesTowardsItsDof) {
   const Trajectory truth = *openSequence(dir_->path()).groundtruth;
   const RunResult defaults = runTracker(dir_->path(), InitSource::Board, std::nullopt);
   const RunResult measured =
-      runTracker(dir_->path(), InitSource::Board, std::nullopt, -1, load("configs/synthetic_presets.yaml"));
+      runTracker(dir_->path(), InitSource::Board, std::nullopt, -1, loadMonoslamOptions("configs/synthetic_presets.yaml"));
   const auto nees_defaults = poseNees(truth, defaults.covariant, 0.01);
   const auto nees_measured = poseNees(truth, measured.covariant, 0.01);
   ASSERT_TRUE(nees_defaults && nees_measured);
@@ -476,16 +484,9 @@ TEST(MonoslamTracker, BoardFreeTurningTooFarIsReportedLostAndRelocalised) {
 // pixel): 4.10 against 1.67 degrees.
 TEST(MonoslamTracker, RollingShutterReadoutKeepsAHandHeldTurn) {
   test::TempDir dir;
-  SynthOptions render;
-  render.preset = "handheld_rpy";
-  render.rolling_shutter = 0.03;
-  render.supersample = 1;
-  writeSyntheticSequence(render, dir.path());
-  MonoslamOptions hand_held;
-  hand_held.filter.motion.sigma_alpha = 12;
-  hand_held.filter.feature_init.min_visible = 25;
-  hand_held.filter.search.features_per_frame = 30;
-  hand_held.filter.map.min_attempts = 5;
+  renderFast("handheld_rpy", 0, dir.path(), 1, 1, 0.03);
+  MonoslamOptions hand_held = loadMonoslamOptions(kHandheldConfig);
+  hand_held.two_view_orientation.enabled = false;
   const RunResult global = runTracker(dir.path(), InitSource::None, std::nullopt, -1, hand_held);
   hand_held.filter.search.rolling_shutter_readout = 0.03;
   const RunResult rolling = runTracker(dir.path(), InitSource::None, std::nullopt, -1, hand_held);
@@ -498,9 +499,6 @@ TEST(MonoslamTracker, RollingShutterReadoutKeepsAHandHeldTurn) {
   EXPECT_LT(computeStatistics(rolling_errors).rmse, 0.6 * computeStatistics(global_errors).rmse);
 }
 
-// The README's hand-held options, and with them the orientation measured by two-view geometry.
-const std::string kHandheldConfig = std::string(SLAMCMP_SOURCE_DIR) + "/configs/monoslam_handheld.yaml";
-
 // handheld_rpy (global shutter) board-free with configs/monoslam_handheld.yaml: the tracks, the
 // two-view rotations and their update run every frame. The render's filter does not over-turn
 // (0.04 degrees RMSE over the full render), and the two-view rotations, over a scene that is mostly
@@ -508,14 +506,8 @@ const std::string kHandheldConfig = std::string(SLAMCMP_SOURCE_DIR) + "/configs/
 // per pixel): 0.58 degrees RMSE, at most 3.7.
 TEST(MonoslamTracker, TwoViewOrientationFollowsAHandHeldTurn) {
   test::TempDir dir;
-  SynthOptions render;
-  render.preset = "handheld_rpy";
-  render.frames = 120;
-  render.supersample = 1;
-  writeSyntheticSequence(render, dir.path());
-  const cv::FileStorage fs(kHandheldConfig, cv::FileStorage::READ);
-  MonoslamOptions options;
-  loadOptions(fs["monoslam"], kHandheldConfig, options);
+  renderFast("handheld_rpy", 120, dir.path());
+  const MonoslamOptions options = loadMonoslamOptions(kHandheldConfig);
   ASSERT_TRUE(options.two_view_orientation.enabled);
   const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt, -1, options);
   EXPECT_EQ(run.tracked, 120);
