@@ -328,7 +328,10 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
   result.pose_covariance = slam_.poseCovariance();
-  if (two_view_) two_view_->posed(result.T_world_camera->R(), result.pose_covariance->bottomRightCorner<3, 3>().trace() / 3);
+  if (two_view_) {
+    const double rotation_variance = result.pose_covariance->bottomRightCorner<3, 3>().trace() / 3;
+    two_view_->posed(result.T_world_camera->R(), rotation_variance);
+  }
   if (result.measured == 0 && frames_unmeasured_ > 0 && !relocalised)
     result.reason = "no feature matched: prediction only";
   return result;

@@ -188,7 +188,8 @@ TEST_F(MonoslamOnTv1, PresetNoiseFileBringsTheNeesTowardsItsDof) {
   const Trajectory truth = *openSequence(dir_->path()).groundtruth;
   const RunResult defaults = runTracker(dir_->path(), InitSource::Board, std::nullopt);
   const RunResult measured =
-      runTracker(dir_->path(), InitSource::Board, std::nullopt, -1, loadMonoslamOptions("configs/synthetic_presets.yaml"));
+      runTracker(dir_->path(), InitSource::Board, std::nullopt, -1,
+                 loadMonoslamOptions("configs/synthetic_presets.yaml"));
   const auto nees_defaults = poseNees(truth, defaults.covariant, 0.01);
   const auto nees_measured = poseNees(truth, measured.covariant, 0.01);
   ASSERT_TRUE(nees_defaults && nees_measured);
