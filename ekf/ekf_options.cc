@@ -156,6 +156,9 @@ void RelocalisationOptions::check() const {
   require(max_error_px > 0 && max_error_px <= 100, "max_error_px", "must be in (0, 100] pixels");
   require(position_sigma > 0 && position_sigma < 100, "position_sigma", "must be in (0, 100)");
   require(orientation_sigma > 0 && orientation_sigma < 1, "orientation_sigma", "must be in (0, 1)");
+  require(guided_radius_px >= 0 && guided_radius_px <= 10000, "guided_radius_px", "must be in [0, 10000] pixels");
+  require(guided_max_hamming >= 0 && guided_max_hamming <= 256, "guided_max_hamming", "must be in [0, 256]");
+  require(retired_points >= 0 && retired_points <= 100000, "retired_points", "must be in [0, 100000]");
 }
 
 bool usesOption(const std::string& use, bool board_free) { return use == "on" || (use == "auto" && board_free); }

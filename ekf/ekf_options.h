@@ -352,6 +352,12 @@ struct RelocalisationOptions {
   double max_error_px = 3.0;     // PnP RANSAC inlier threshold, pixels
   double position_sigma = 0.05;  // units, the relocalised camera position's std
   double orientation_sigma = 0.02;  // per quaternion component
+  int retired_points = 200;      // the points of features deleted while posed, matched as well (newest kept)
+  // Where all the frame's corners give no pose: each point matched among the corners this near
+  // where the lost filter's pose projects it (0: not), within this Hamming distance (ORB-SLAM's
+  // search by projection takes 50).
+  double guided_radius_px = 40;
+  int guided_max_hamming = 50;
   template <class V>
   void visit(V& v) {
     v("enabled", enabled, "--init none: relocalise lost frames against the map (ORB descriptors, PnP RANSAC)");
@@ -365,6 +371,12 @@ struct RelocalisationOptions {
     v("max_error_px", max_error_px, "PnP RANSAC inlier threshold, pixels");
     v("position_sigma", position_sigma, "units (metres with a board), std of the relocalised camera position");
     v("orientation_sigma", orientation_sigma, "std of each quaternion component of the relocalised camera");
+    v("retired_points", retired_points,
+      "the points of this many features deleted while the frames were posed are matched too (the newest)");
+    v("guided_radius_px", guided_radius_px,
+      "pixels; where the whole frame gives no pose, points matched among the corners this near where the lost filter's "
+      "pose projects them (0: not)");
+    v("guided_max_hamming", guided_max_hamming, "the largest Hamming distance of a match near the projection");
   }
   void check() const;
 };

@@ -45,6 +45,8 @@ void EkfSlam::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 1
   search_reach_px_ = std::numeric_limits<double>::infinity();
   motion_noise_.restart();
   features_.clear();
+  posed_map_.reset();  // a new map: nothing of the old one relocalises it
+  retired_.clear();
   scale_gauge_pending_ = board_free_ && inverse_depth_ && options_.inverse_depth.scale_gauge_sigma > 0;
 }
 
@@ -251,9 +253,38 @@ PoseCovariance EkfSlam::poseCovariance() const {
   return 0.5 * (P + P.transpose());
 }
 
+namespace {
+
+// A feature's world point and its covariance for relocalisation; none for a ray, a feature without
+// a descriptor, or an inverse-depth one whose depth is still unknown (rho within two std of 0).
+std::optional<std::pair<Vec3, Mat3>> relocalisationPoint(const EkfState& state, const MapFeature& f) {
+  if (f.is_ray || f.descriptor.empty()) return std::nullopt;
+  if (f.inverse_depth) {
+    const double rho = state.x()(f.offset + 5), var = state.P()(f.offset + 5, f.offset + 5);
+    if (!(rho > 2 * std::sqrt(std::max(0.0, var)))) return std::nullopt;
+  }
+  const Vec3 p = featurePoint(state.x(), f);
+  if (!p.allFinite()) return std::nullopt;
+  return std::make_pair(p, featurePointCovariance(state, f));
+}
+
+}  // namespace
+
 void EkfSlam::rememberPosedMap() {
   if (!relocaliser_) return;  // only relocalisation reads it: no copy a frame for the others
-  if (!posed_map_) posed_map_.emplace();
+  if (posed_map_) {
+    // Both in id order (features are appended as ids grow): the last map's features now gone.
+    auto now = features_.begin();
+    for (const MapFeature& f : posed_map_->features) {
+      while (now != features_.end() && now->id < f.id) ++now;
+      if (now != features_.end() && now->id == f.id) continue;
+      if (const auto point = relocalisationPoint(posed_map_->state, f))
+        retired_.push_front(RetiredPoint{point->first, point->second, f.descriptor});
+    }
+    while (static_cast<int>(retired_.size()) > relocaliser_->options().retired_points) retired_.pop_back();
+  } else {
+    posed_map_.emplace();
+  }
   posed_map_->state = state_;  // into the storage of the last copy: no allocation while the map keeps its size
   posed_map_->features = features_;
 }
@@ -266,19 +297,22 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
   std::vector<Mat3> P_points;  // each point's world covariance
   cv::Mat descriptors;
   for (const MapFeature& f : posed_map_ ? posed_map_->features : features_) {
-    if (f.id >= below_id || f.is_ray || f.descriptor.empty()) continue;
-    // An inverse-depth feature whose depth is still unknown (rho within two std of 0) has no point.
-    if (f.inverse_depth) {
-      const double rho = state.x()(f.offset + 5), var = state.P()(f.offset + 5, f.offset + 5);
-      if (!(rho > 2 * std::sqrt(std::max(0.0, var)))) continue;
+    if (f.id >= below_id) continue;
+    if (const auto point = relocalisationPoint(state, f)) {
+      p_world.push_back(point->first);
+      P_points.push_back(point->second);
+      descriptors.push_back(f.descriptor);
     }
-    const Vec3 p = featurePoint(state.x(), f);
-    if (!p.allFinite()) continue;
-    p_world.push_back(p);
-    P_points.push_back(featurePointCovariance(state, f));
-    descriptors.push_back(f.descriptor);
   }
-  return relocaliser_->relocalise(grey, camera_, p_world, P_points, descriptors, inliers);
+  for (const RetiredPoint& r : retired_) {
+    p_world.push_back(r.p_world);
+    P_points.push_back(r.P_world);
+    descriptors.push_back(r.descriptor);
+  }
+  // The filter runs on while lost: its own pose guides a second search.
+  const SE3 guess = state_.T_world_camera();
+  const bool guided = state_.x().head<7>().allFinite();
+  return relocaliser_->relocalise(grey, camera_, p_world, P_points, descriptors, inliers, guided ? &guess : nullptr);
 }
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {

@@ -5,6 +5,7 @@
 // it starts and what else it measures (monoslam: four board corners in the state; hybrid: every
 // board corner as a known landmark).
 #include <limits>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <random>
@@ -86,8 +87,9 @@ class EkfSlam {
   // Whether features keep descriptors and lost frames can be relocalised.
   bool relocalises() const { return relocaliser_ != nullptr; }
   // T_world_camera found again from the map's features with ids under `below_id` (those mapped
-  // while the frames were posed) matched in `grey`; nullopt if too few agree, or the map is not
-  // finite. *inliers: how many agreed.
+  // while the frames were posed), and the points of the features deleted while posed (the last
+  // relocalisation.retired_points), matched in `grey` (then near where the filter's own pose
+  // projects them); nullopt if too few agree, or the map is not finite. *inliers: how many agreed.
   std::optional<SE3> relocalise(const cv::Mat& grey, int below_id, int* inliers) const;
   // The camera moved to T_world_camera with covariance P_camera, at rest, uncorrelated with the
   // map, which keeps its features under `below_id` (the others were mapped from a lost pose) with
@@ -95,7 +97,8 @@ class EkfSlam {
   void relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id);
   // Keeps the filter as it is now, a posed frame's (with relocalisation; else nothing): relocalise() matches
   // against that map and relocate() resumes from it, so the lost frames' own updates (look-alikes
-  // matched from a wrong pose, moving the map through its correlations) never reach it.
+  // matched from a wrong pose, moving the map through its correlations) never reach it. The
+  // features the last posed map had and this one has not are kept as retired points.
   void rememberPosedMap();
   // Features with ids under `id` are not deleted for failing (while the frames are lost their
   // searches fail for the pose's fault, not theirs); 0 lifts it.
@@ -144,6 +147,15 @@ class EkfSlam {
     std::vector<MapFeature> features;
   };
   std::optional<PosedMap> posed_map_;  // rememberPosedMap()'s
+  // A deleted feature's point as its last posed map knew it: a camera turning about a room sees
+  // the features it deleted again (tum_fr1_rpy: the filter holds about 40, a relocalisation
+  // matched 3-10 of them).
+  struct RetiredPoint {
+    Vec3 p_world;
+    Mat3 P_world;
+    cv::Mat descriptor;
+  };
+  std::deque<RetiredPoint> retired_;  // newest first
   // How far the last frame's searches reached (3-sigma half axis, pixels; with distinct_),
   // unbounded before any.
   double search_reach_px_ = std::numeric_limits<double>::infinity();

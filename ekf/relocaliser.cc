@@ -1,6 +1,7 @@
 #include "ekf/relocaliser.h"
 
 #include <cmath>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -57,10 +58,48 @@ cv::Mat Relocaliser::describe(const cv::Mat& grey, const Vec2& uv) const {
   return one.size() == 1 ? descriptor : cv::Mat();
 }
 
+std::vector<cv::DMatch> Relocaliser::matchAll(const cv::Mat& descriptors, const cv::Mat& frame_descriptors) const {
+  std::vector<std::vector<cv::DMatch>> knn;
+  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(descriptors, frame_descriptors, knn, 2);
+  std::vector<cv::DMatch> matches;
+  for (const std::vector<cv::DMatch>& m : knn)
+    if (m.size() == 2 && m[0].distance < options_.ratio * m[1].distance) matches.push_back(m[0]);
+  return matches;
+}
+
+std::vector<cv::DMatch> Relocaliser::matchNear(const cv::Mat& descriptors, const cv::Mat& frame_descriptors,
+                                               const std::vector<cv::Point2f>& uv_distorted, const CameraModel& camera,
+                                               const std::vector<Vec3>& p_world, const SE3& T_world_camera) const {
+  const SE3 T_camera_world = T_world_camera.inverse();
+  const double r2 = options_.guided_radius_px * options_.guided_radius_px;
+  std::vector<cv::DMatch> matches;
+  for (int i = 0; i < descriptors.rows; ++i) {
+    const Vec3 p_camera = T_camera_world * p_world[i];
+    if (!(p_camera.z() > 0)) continue;
+    const Vec2 uv = camera.project(p_camera);
+    if (!camera.inImage(uv, -options_.guided_radius_px)) continue;
+    double best = std::numeric_limits<double>::infinity(), second = best;
+    int best_j = -1;
+    for (int j = 0; j < frame_descriptors.rows; ++j) {
+      const double du = uv_distorted[j].x - uv.x(), dv = uv_distorted[j].y - uv.y();
+      if (du * du + dv * dv > r2) continue;
+      const double d = cv::norm(descriptors.row(i), frame_descriptors.row(j), cv::NORM_HAMMING);
+      if (d < best) {
+        second = best, best = d, best_j = j;
+      } else if (d < second) {
+        second = d;
+      }
+    }
+    if (best_j >= 0 && best <= options_.guided_max_hamming && best < options_.ratio * second)
+      matches.emplace_back(i, best_j, static_cast<float>(best));
+  }
+  return matches;
+}
+
 std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraModel& camera,
                                            const std::vector<Vec3>& p_world,
                                            const std::vector<Mat3>& P_points, const cv::Mat& descriptors,
-                                           int* inliers) const {
+                                           int* inliers, const SE3* T_world_camera_guess) const {
   *inliers = 0;
   if (static_cast<int>(p_world.size()) < options_.min_inliers || P_points.size() != p_world.size() ||
       descriptors.rows != static_cast<int>(p_world.size()))
@@ -69,19 +108,28 @@ std::optional<SE3> Relocaliser::relocalise(const cv::Mat& grey, const CameraMode
   cv::goodFeaturesToTrack(grey, uv_distorted, options_.frame_corners, 0.001, 5);
   const cv::Mat frame_descriptors = describeAll(grey, &uv_distorted);
   if (frame_descriptors.rows < 2) return std::nullopt;
-  std::vector<std::vector<cv::DMatch>> matches;
-  cv::BFMatcher(cv::NORM_HAMMING).knnMatch(descriptors, frame_descriptors, matches, 2);
+  const std::optional<SE3> found =
+      poseFromMatches(matchAll(descriptors, frame_descriptors), uv_distorted, camera, p_world, P_points, inliers);
+  if (found || !T_world_camera_guess || !(options_.guided_radius_px > 0)) return found;
+  return poseFromMatches(
+      matchNear(descriptors, frame_descriptors, uv_distorted, camera, p_world, *T_world_camera_guess), uv_distorted,
+      camera, p_world, P_points, inliers);
+}
+
+std::optional<SE3> Relocaliser::poseFromMatches(const std::vector<cv::DMatch>& matches,
+                                                const std::vector<cv::Point2f>& uv_distorted,
+                                                const CameraModel& camera, const std::vector<Vec3>& p_world,
+                                                const std::vector<Mat3>& P_points, int* inliers) const {
   std::vector<cv::Point3d> p_world_matched;
   std::vector<cv::Point2d> xy_normalised;  // the lens's distortion removed
   std::vector<int> point_index;            // of each match, into p_world
-  for (const std::vector<cv::DMatch>& m : matches) {
-    if (m.size() < 2 || m[0].distance >= options_.ratio * m[1].distance) continue;
-    const Vec3& p = p_world[m[0].queryIdx];
-    const cv::Point2f& uv = uv_distorted[m[0].trainIdx];
+  for (const cv::DMatch& m : matches) {
+    const Vec3& p = p_world[m.queryIdx];
+    const cv::Point2f& uv = uv_distorted[m.trainIdx];
     const Vec2 xy = camera.undistortPixel(Vec2(uv.x, uv.y));
     p_world_matched.emplace_back(p.x(), p.y(), p.z());
     xy_normalised.emplace_back(xy.x(), xy.y());
-    point_index.push_back(m[0].queryIdx);
+    point_index.push_back(m.queryIdx);
   }
   if (static_cast<int>(p_world_matched.size()) < options_.min_inliers) return std::nullopt;
   cv::Mat rvec, tvec;

@@ -206,6 +206,7 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
   P.diagonal().head<7>() << Vec3::Constant(ro.position_sigma * ro.position_sigma),
       Vec4::Constant(ro.orientation_sigma * ro.orientation_sigma);
   slam_.relocate(*T_world_camera, P, trusted_id_limit_);
+  if (two_view_) two_view_->forget();  // the orientation jumped
   unknown_first_motion_ = true;
   resumed(frame.timestamp);
   result->reason = "relocalised against the map (" + std::to_string(inliers) + " points agree)";
@@ -238,6 +239,10 @@ FrameResult MonoslamTracker::track(const Frame& frame) {
   lost_ = ever_started_ && !result.T_world_camera;
   frames_lost_ = lost_ ? frames_lost_ + 1 : 0;
   return result;
+}
+
+void MonoslamTracker::rememberOrientation(const PoseCovariance& pose_covariance) {
+  two_view_->remember(slam_.T_world_camera().R(), pose_covariance.bottomRightCorner<3, 3>().trace() / 3);
 }
 
 FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
@@ -313,7 +318,10 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       !weak.empty()) {
     result.status = TrackStatus::Lost;  // its extrapolation is not a pose
     result.reason = weak;
-    if (two_view_) two_view_->lost();
+    // The filter runs on (two_view_ is board-free only) and its orientation with it: a loss is of
+    // its anchor, while the tracks still measure its turn, and its pose guides the relocalisation's
+    // second search (Relocaliser::relocalise).
+    if (two_view_) rememberOrientation(slam_.poseCovariance());
     // Nothing but the board anchors a map started from it: its filter restarts from the board's
     // next view rather than run on unanchored. A board-free one runs on (relocalisation above).
     if (init_ != InitSource::None) {
@@ -328,10 +336,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   result.source = "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
   result.pose_covariance = slam_.poseCovariance();
-  if (two_view_) {
-    const double rotation_variance = result.pose_covariance->bottomRightCorner<3, 3>().trace() / 3;
-    two_view_->posed(result.T_world_camera->R(), rotation_variance);
-  }
+  if (two_view_) rememberOrientation(*result.pose_covariance);
   if (result.measured == 0 && frames_unmeasured_ > 0 && !relocalised)
     result.reason = "no feature matched: prediction only";
   return result;

@@ -41,6 +41,9 @@ class MonoslamTracker : public Tracker {
   // The lost camera found again against the map mapped while it was posed (relocalisation.*);
   // the filter then runs from that pose. False when it was not (*result untouched).
   bool relocalise(const Frame& frame, FrameResult* result);
+  // This frame's tracks and the filter's orientation after its update, for the next frames'
+  // two-view orientation.
+  void rememberOrientation(const PoseCovariance& pose_covariance);
   // One frame of the filter (track() after any relocalisation; `result` holds its stages so far).
   FrameResult trackFrame(const Frame& frame, bool relocalised, FrameResult result);
 

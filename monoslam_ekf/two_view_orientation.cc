@@ -41,7 +41,7 @@ void TwoViewOrientation::update(const cv::Mat& grey, EkfState& state) {
   orientationUpdate(state, *R_world_camera, std::sqrt(sigma * sigma + reference_variance_));
 }
 
-void TwoViewOrientation::posed(const Mat3& R_world_camera, double rotation_variance) {
+void TwoViewOrientation::remember(const Mat3& R_world_camera, double rotation_variance) {
   rotation_.remember(std::move(tracks_), R_world_camera);  // update() makes this frame's afresh
   reference_variance_ = rotation_variance;
 }

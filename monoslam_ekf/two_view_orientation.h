@@ -27,7 +27,7 @@ inline FeatureTrackerOptions twoViewTrackOptions() {
 
 struct TwoViewOrientationOptions {
   bool enabled = false;    // off: the SceneLib filter as it was
-  // The measured orientation's std per axis, degrees, to which the last posed frame's orientation
+  // The measured orientation's std per axis, degrees, to which the last remembered frame's orientation
   // variance is added: the views' orientations are the filter's own, correlated with its state in
   // ways it does not hold, and taken as exact they made it too sure of its turn (tum_fr1_rpy seeds
   // 0-7 at 0.2 degrees: 1380 of 2000 frames posed, 1777 with the variance added).
@@ -40,7 +40,7 @@ struct TwoViewOrientationOptions {
   void visit(V& v) {
     v("enabled", enabled, "--init none: the orientation also measured by two-view geometry to the last frames");
     v("sigma_deg", sigma_deg,
-      "degrees, the measured orientation's std per axis (the last posed frame's orientation variance is added)");
+      "degrees, the measured orientation's std per axis (the last remembered frame's orientation variance is added)");
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels");
     v("lk_levels", lk_levels, "Lucas-Kanade pyramid levels above the image");
     v("tracks", tracks, "the features tracked for the two-view geometry");
@@ -54,14 +54,15 @@ class TwoViewOrientation {
  public:
   TwoViewOrientation(const CameraModel& camera, const TwoViewOrientationOptions& options);
 
-  // Tracks this frame's features from the last one's and, with earlier posed frames, updates the
-  // state's orientation.
+  // Tracks this frame's features from the last one's and, with the earlier frames remembered,
+  // updates the state's orientation.
   void update(const cv::Mat& grey, EkfState& state);
-  // The frame just updated was posed: its tracks and the filter's orientation (after every update)
-  // are kept for later frames; rotation_variance (rad^2, per axis) is that orientation's.
-  void posed(const Mat3& R_world_camera, double rotation_variance);
-  // The frame was not posed: no later frame composes an orientation through the earlier ones.
-  void lost() { rotation_.clear(); }
+  // The frame just updated: its tracks and the filter's orientation (after every update) are kept
+  // for later frames; rotation_variance (rad^2, per axis) is that orientation's.
+  void remember(const Mat3& R_world_camera, double rotation_variance);
+  // The filter's orientation jumped (a relocation): no later frame composes an orientation through
+  // the earlier ones.
+  void forget() { rotation_.clear(); }
 
  private:
   CameraModel camera_;
@@ -70,7 +71,7 @@ class TwoViewOrientation {
   MultiBaselineRotation rotation_;
   std::vector<cv::Mat> pyramid_;  // the last frame's
   FrameTracks tracks_;            // this frame's, undistorted
-  double reference_variance_ = 0;  // the last posed frame's orientation variance, rad^2 per axis
+  double reference_variance_ = 0;  // the last remembered frame's orientation variance, rad^2 per axis
 };
 
 }  // namespace slamcmp

@@ -176,5 +176,35 @@ TEST(Relocaliser, CountsOnlyInliersWhosePointsAreKnownToWithinTheInlierTest) {
   EXPECT_LT((found->t() - away.t()).norm(), 0.006);
 }
 
+// A wall of repeated tiles (one every 0.24 m, about 80 px in the image): every corner has a
+// look-alike a tile away, and Lowe's ratio test among all the frame's corners refuses the matches.
+// Guided by a pose 1 cm and 1 degree off the camera's (a lost filter's own), each point is matched
+// among the corners within 40 px of where that pose projects it, out of its look-alikes' reach,
+// and the camera is found; with no guess, or guided_radius_px 0, it is not.
+TEST(Relocaliser, AGuessFindsTheCameraWhereLookAlikesDefeatTheRatioTest) {
+  const CameraModel camera = pinhole();
+  constexpr int kTile = 120;  // texture pixels: 0.24 m
+  const cv::Mat tile = wallTexture()(cv::Rect(0, 0, kTile, kTile)).clone();
+  cv::Mat texture;
+  cv::repeat(tile, kTextureSide / kTile, kTextureSide / kTile, texture);
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  const WallMap map = mapFromFirstView(relocaliser, camera, renderWall(texture, camera, SE3()));
+  const SE3 T_world_camera = SE3::fromRotvec(Vec3(0.03, -0.02, 0.05), Vec3(0.03, 0.01, 0));
+  const cv::Mat view = renderWall(texture, camera, T_world_camera);
+  int inliers = 0;
+  EXPECT_FALSE(relocaliser.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors, &inliers));
+  const SE3 guess = T_world_camera * SE3::fromRotvec(Vec3(0, M_PI / 180, 0), Vec3(0.01, 0, 0));
+  const std::optional<SE3> found =
+      relocaliser.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors, &inliers, &guess);
+  ASSERT_TRUE(found);
+  EXPECT_GE(inliers, 20);
+  EXPECT_LT((found->t() - T_world_camera.t()).norm(), 0.006);
+  EXPECT_LT(rotvecFromRotation(found->R().transpose() * T_world_camera.R()).norm(), 0.3 * M_PI / 180);
+  RelocalisationOptions unguided;
+  unguided.guided_radius_px = 0;
+  EXPECT_FALSE(Relocaliser{unguided}.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors,
+                                                &inliers, &guess));
+}
+
 }  // namespace
 }  // namespace slamcmp
