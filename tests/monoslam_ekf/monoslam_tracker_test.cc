@@ -503,18 +503,25 @@ TEST(MonoslamTracker, RollingShutterReadoutKeepsAHandHeldTurn) {
 // handheld_rpy (global shutter) board-free with configs/monoslam_handheld.yaml: the tracks, the
 // two-view rotations and their update run every frame. The render's filter does not over-turn
 // (0.04 degrees RMSE over the full render), and the two-view rotations, over a scene that is mostly
-// the board's wall, cost it accuracy (0.43 degrees): README. Measured here (120 frames, one sample
-// per pixel): 0.58 degrees RMSE, at most 3.7.
+// the board's wall, cost it accuracy (0.15 degrees; 0.43 with the LK pyramid's third level):
+// README. Measured here (120 frames, one sample per pixel): 116 posed, 4 frames lost to innovation
+// jumps (reported, not invented: NIS per dof 1.7-2.2 against the run's own level of 0.01-0.02),
+// 0.16 degrees RMSE, at most 1.4 (with the third level: 120 posed, 0.58 degrees, at most 3.7).
 TEST(MonoslamTracker, TwoViewOrientationFollowsAHandHeldTurn) {
   test::TempDir dir;
   renderFast("handheld_rpy", 120, dir.path());
   const MonoslamOptions options = loadMonoslamOptions(kHandheldConfig);
   ASSERT_TRUE(options.two_view_orientation.enabled);
   const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt, -1, options);
-  EXPECT_EQ(run.tracked, 120);
+  EXPECT_GE(run.tracked, 114);
+  for (const FrameResult& r : run.results) {
+    if (!r.T_world_camera) {
+      EXPECT_FALSE(r.reason.empty());
+    }
+  }
   const Statistics errors = computeStatistics(turnErrorsDeg(dir.path(), run));
-  std::printf("orientation RMSE %.3f deg, at most %.3f\n", errors.rmse, errors.max);
-  EXPECT_LT(errors.rmse, 1.0);
+  std::printf("%d posed, orientation RMSE %.3f deg, at most %.3f\n", run.tracked, errors.rmse, errors.max);
+  EXPECT_LT(errors.rmse, 0.5);
 }
 
 // The two-view orientation is a board-free run's: with a board it is refused, not ignored.
@@ -671,30 +678,33 @@ TEST(MonoslamTracker, RealTumFr1RpyBoardFree) {
   EXPECT_LE(0.5 * (rms_deg[1] + rms_deg[2]), 7.0);  // the median of the four
 }
 
-// The same with the orientation also measured by two-view geometry (configs/monoslam_handheld.yaml):
-// the filter alone turns 5 % too far (seeds 0-3 5.7, 5.7, 3.6 and 5.9 degrees RMSE, the median 5.7),
-// with the two-view rotations (measured) 2.1, 1.9, 1.7 and 2.4, at most 4.0-4.6, Sim(3) ATE 1.9, 1.7,
-// 2.8 and 1.9 cm (4.9, 4.6, 4.1 and 4.2 without), 249, 250, 239 and 250 frames posed.
+// The same with the orientation also measured by two-view geometry (configs/monoslam_handheld.yaml),
+// held to issue 18's targets over seeds 0-7 (which frames a run keeps turns on where its features
+// start: one seed is one draw). The filter alone turns 5 % too far (seeds 0-3 5.7, 6.2, 3.4 and 5.9
+// degrees RMSE). Measured with the file: 250, 234, 250, 249, 250, 214, 250 and 248 frames posed
+// (1945 of 2000), orientation RMSE 2.35, 3.12, 1.32, 1.88, 1.56, 1.59, 1.43 and 1.88 degrees (the
+// median 1.74), at most 2.8-4.9, Sim(3) ATE 3.8, 2.6, 2.3, 2.1, 3.9, 2.4, 1.9 and 2.1 cm (the median
+// 2.3). With the LK pyramid's third level (session 32): 1825 posed, the median 2.03 degrees.
 TEST(MonoslamTracker, RealTumFr1RpyTwoViewOrientation) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const std::string sequence = shared + "/tum_fr1_rpy";
   if (!std::filesystem::exists(sequence)) GTEST_SKIP() << sequence << " is absent: skipped";
   std::vector<double> rms_deg, ate;
-  int mostly_posed = 0;
-  for (int seed = 0; seed < 4; ++seed) {
+  int posed = 0;
+  for (int seed = 0; seed < 8; ++seed) {
     SCOPED_TRACE("feature_init.seed " + std::to_string(seed));
     const TumRun tum = runOnTumFr1Rpy(sequence, seedOption(seed));
     EXPECT_LE(tum.worst_deg, 6.0);
     rms_deg.push_back(tum.rms_deg);
     ate.push_back(tum.summary["ate"]["trans"]["rmse"].get<double>());
-    mostly_posed += tum.summary["tracked"].get<int>() >= 200;
+    posed += tum.summary["tracked"].get<int>();
   }
-  EXPECT_GE(mostly_posed, 3);
+  EXPECT_GE(posed, 1900);  // 95 %
   std::sort(rms_deg.begin(), rms_deg.end());
   std::sort(ate.begin(), ate.end());
-  EXPECT_LE(0.5 * (rms_deg[1] + rms_deg[2]), 2.5);  // the median of the four
-  EXPECT_LE(rms_deg[3], 3.0);
-  EXPECT_LE(0.5 * (ate[1] + ate[2]), 0.03);
+  EXPECT_LE(0.5 * (rms_deg[3] + rms_deg[4]), 2.0);  // the median of the eight
+  EXPECT_LE(rms_deg[7], 3.5);
+  EXPECT_LE(0.5 * (ate[3] + ate[4]), 0.03);
 }
 
 // Without a board in view the tracker waits, says why, and never reports a pose.
