@@ -354,8 +354,8 @@ struct RelocalisationOptions {
   double orientation_sigma = 0.02;  // per quaternion component
   int retired_points = 200;      // the points of features deleted while posed, matched as well (newest kept)
   // Where all the frame's corners give no pose: each point matched among the corners this near
-  // where the lost filter's pose projects it (0: not), within this Hamming distance (ORB-SLAM's
-  // search by projection takes 50).
+  // where the lost filter's last pose projects it (0: not), within this Hamming distance of 256
+  // bits (as ORB-SLAM's search by projection, whose bounds are 50-100).
   double guided_radius_px = 40;
   int guided_max_hamming = 50;
   template <class V>

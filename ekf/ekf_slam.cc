@@ -255,9 +255,14 @@ PoseCovariance EkfSlam::poseCovariance() const {
 
 namespace {
 
-// A feature's world point and its covariance for relocalisation; none for a ray, a feature without
-// a descriptor, or an inverse-depth one whose depth is still unknown (rho within two std of 0).
-std::optional<std::pair<Vec3, Mat3>> relocalisationPoint(const EkfState& state, const MapFeature& f) {
+struct RelocalisationPoint {
+  Vec3 p_world;
+  Mat3 P_world;  // its covariance
+};
+
+// A feature's point for relocalisation; none for a ray, a feature without a descriptor, or an
+// inverse-depth one whose depth is still unknown (rho within two std of 0).
+std::optional<RelocalisationPoint> relocalisationPoint(const EkfState& state, const MapFeature& f) {
   if (f.is_ray || f.descriptor.empty()) return std::nullopt;
   if (f.inverse_depth) {
     const double rho = state.x()(f.offset + 5), var = state.P()(f.offset + 5, f.offset + 5);
@@ -265,26 +270,25 @@ std::optional<std::pair<Vec3, Mat3>> relocalisationPoint(const EkfState& state, 
   }
   const Vec3 p = featurePoint(state.x(), f);
   if (!p.allFinite()) return std::nullopt;
-  return std::make_pair(p, featurePointCovariance(state, f));
+  return RelocalisationPoint{p, featurePointCovariance(state, f)};
 }
 
 }  // namespace
 
 void EkfSlam::rememberPosedMap() {
   if (!relocaliser_) return;  // only relocalisation reads it: no copy a frame for the others
-  if (posed_map_) {
+  if (posed_map_ && relocaliser_->options().retired_points > 0) {
     // Both in id order (features are appended as ids grow): the last map's features now gone.
     auto now = features_.begin();
     for (const MapFeature& f : posed_map_->features) {
       while (now != features_.end() && now->id < f.id) ++now;
       if (now != features_.end() && now->id == f.id) continue;
-      if (const auto point = relocalisationPoint(posed_map_->state, f))
-        retired_.push_front(RetiredPoint{point->first, point->second, f.descriptor});
+      if (const std::optional<RelocalisationPoint> point = relocalisationPoint(posed_map_->state, f))
+        retired_.push_front(RetiredPoint{point->p_world, point->P_world, f.descriptor});
     }
     while (static_cast<int>(retired_.size()) > relocaliser_->options().retired_points) retired_.pop_back();
-  } else {
-    posed_map_.emplace();
   }
+  if (!posed_map_) posed_map_.emplace();
   posed_map_->state = state_;  // into the storage of the last copy: no allocation while the map keeps its size
   posed_map_->features = features_;
 }
@@ -298,9 +302,9 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
   cv::Mat descriptors;
   for (const MapFeature& f : posed_map_ ? posed_map_->features : features_) {
     if (f.id >= below_id) continue;
-    if (const auto point = relocalisationPoint(state, f)) {
-      p_world.push_back(point->first);
-      P_points.push_back(point->second);
+    if (const std::optional<RelocalisationPoint> point = relocalisationPoint(state, f)) {
+      p_world.push_back(point->p_world);
+      P_points.push_back(point->P_world);
       descriptors.push_back(f.descriptor);
     }
   }
@@ -309,10 +313,12 @@ std::optional<SE3> EkfSlam::relocalise(const cv::Mat& grey, int below_id, int* i
     P_points.push_back(r.P_world);
     descriptors.push_back(r.descriptor);
   }
-  // The filter runs on while lost: its own pose guides a second search.
-  const SE3 guess = state_.T_world_camera();
+  // The filter runs on while lost: its own pose (the last frame's, not yet predicted to this one)
+  // guides a second search.
+  const SE3 T_world_camera_guess = state_.T_world_camera();
   const bool guided = state_.x().head<7>().allFinite();
-  return relocaliser_->relocalise(grey, camera_, p_world, P_points, descriptors, inliers, guided ? &guess : nullptr);
+  return relocaliser_->relocalise(grey, camera_, p_world, P_points, descriptors, inliers,
+                                  guided ? &T_world_camera_guess : nullptr);
 }
 
 void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera, int below_id) {

@@ -4,8 +4,8 @@
 // depth-particle rays in free image boxes and pruned of features that fail. A back-end decides when
 // it starts and what else it measures (monoslam: four board corners in the state; hybrid: every
 // board corner as a known landmark).
-#include <limits>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <random>

@@ -33,10 +33,8 @@ struct TwoViewOrientationOptions {
   // 0-7 at 0.2 degrees: 1380 of 2000 frames posed, 1777 with the variance added).
   double sigma_deg = 0.2;
   int lk_window_px = 21;   // Lucas-Kanade window side, pixels
-  // Pyramid levels above the image. 2, not 3: tum_fr1_rpy seeds 0-15 85 -> 97 % of frames posed
-  // (no seed under 207 of 250, one at 15 with 3), the same orientation error on average (2.09 ->
-  // 2.07 degrees) and Sim(3) ATE (2.50 -> 2.56 cm); handheld_rpy 0.43 -> 0.15 degrees; 1 or a
-  // 15 px window: fewer posed (docs/findings.md, session 33).
+  // Pyramid levels above the image: with 3, tum_fr1_rpy seeds 0-15 posed 85 % of frames, with 2
+  // 97 % at the same accuracy (docs/findings.md, session 33).
   int lk_levels = 2;
   FeatureTrackerOptions tracks = twoViewTrackOptions();
   MultiBaselineRotationOptions rotation;

@@ -180,7 +180,7 @@ TEST(Relocaliser, CountsOnlyInliersWhosePointsAreKnownToWithinTheInlierTest) {
 // look-alike a tile away, and Lowe's ratio test among all the frame's corners refuses the matches.
 // Guided by a pose 1 cm and 1 degree off the camera's (a lost filter's own), each point is matched
 // among the corners within 40 px of where that pose projects it, out of its look-alikes' reach,
-// and the camera is found; with no guess, or guided_radius_px 0, it is not.
+// and the camera is found; with no guess it is not.
 TEST(Relocaliser, AGuessFindsTheCameraWhereLookAlikesDefeatTheRatioTest) {
   const CameraModel camera = pinhole();
   constexpr int kTile = 120;  // texture pixels: 0.24 m
@@ -200,10 +200,6 @@ TEST(Relocaliser, AGuessFindsTheCameraWhereLookAlikesDefeatTheRatioTest) {
   EXPECT_GE(inliers, 20);
   EXPECT_LT((found->t() - T_world_camera.t()).norm(), 0.006);
   EXPECT_LT(rotvecFromRotation(found->R().transpose() * T_world_camera.R()).norm(), 0.3 * M_PI / 180);
-  RelocalisationOptions unguided;
-  unguided.guided_radius_px = 0;
-  EXPECT_FALSE(Relocaliser{unguided}.relocalise(view, camera, map.p_world, map.p_world_covariance, map.descriptors,
-                                                &inliers, &guess));
 }
 
 }  // namespace
