@@ -283,4 +283,3 @@ BENCHMARK(BM_EkfFrame)->ArgsProduct({kMapSizes})->ArgName("N")->Unit(benchmark::
 }  // namespace
 }  // namespace slamcmp
 
-BENCHMARK_MAIN();

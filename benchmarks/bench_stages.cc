@@ -702,4 +702,3 @@ const bool registered = [] {
 }  // namespace
 }  // namespace slamcmp
 
-BENCHMARK_MAIN();

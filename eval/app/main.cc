@@ -9,9 +9,11 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/core/utils/logger.hpp>
 
+#include "core/frame_memory.h"
 #include "eval/app/cli.h"
 
 int main(int argc, char** argv) {
+  slamcmp::keepFreedMemoryForReuse();  // before the decoding threads start
   // OpenCV's own messages (e.g. from a broken image) must not interleave with ours.
   cv::redirectError([](int, const char*, const char*, const char*, int, void*) { return 0; });
   // Nor its logging, nor the video libraries' (a file that is not a video makes FFmpeg and
