@@ -88,8 +88,7 @@ std::vector<Feature> searchMapPoints(const cv::Mat& grey, const CameraModel& cam
     const cv::Point2f middle(kMapPatchSize / 2, kMapPatchSize / 2);
     std::vector<cv::Point2f> from{middle}, to{middle};
     std::vector<uchar> status;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(*c.patch, around, from, to, status, error, cv::Size(kLkWindow, kLkWindow), 0,
+    cv::calcOpticalFlowPyrLK(*c.patch, around, from, to, status, cv::noArray(), cv::Size(kLkWindow, kLkWindow), 0,
                              cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
                              cv::OPTFLOW_USE_INITIAL_FLOW);
     const cv::Point2f shift = to[0] - middle;

@@ -74,8 +74,7 @@ int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<
       to.push_back(tracked.at(id));
     }
     std::vector<uchar> status;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(first_images_.at(first), pyramid, from, to, status, error, lk_window_, lk_levels_,
+    cv::calcOpticalFlowPyrLK(first_images_.at(first), pyramid, from, to, status, cv::noArray(), lk_window_, lk_levels_,
                              criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
     for (size_t k = 0; k < ids.size(); ++k) {
       const cv::Point2f d = to[k] - tracked.at(ids[k]);

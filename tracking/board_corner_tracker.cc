@@ -468,9 +468,8 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
   if (options_.track && camera && corners_.complete && !pyramid_prev.empty()) {
     std::vector<cv::Point2f> uv;
     std::vector<uchar> status;
-    std::vector<float> error;
     // Coarse convergence is enough: the corners are refined to sub-pixel next.
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, error, lk_window, lk_levels, kCoarseLk);
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels, kCoarseLk);
     bool all = true;
     for (size_t i = 0; i < uv.size() && all; ++i)
       all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
@@ -529,8 +528,7 @@ std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
       if (predicted.size() == corners_.ids.size()) uv = std::move(predicted), flags = cv::OPTFLOW_USE_INITIAL_FLOW;
     }
     std::vector<uchar> status;
-    std::vector<float> error;
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, error, lk_window, lk_levels, kCoarseLk,
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels, kCoarseLk,
                              flags);
     const double margin = refineMarginPx(corners_);
     BoardCorners tracked;

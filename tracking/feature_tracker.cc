@@ -39,19 +39,18 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
   prev.reserve(features_.size());
   for (const auto& f : features_) prev.push_back(f.uv);
   std::vector<uchar> status, status_back;
-  std::vector<float> error;
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.03);
   int flags = 0;
   if (predicted_uv && predicted_uv->size() == features_.size()) {
     next = *predicted_uv;
     flags = cv::OPTFLOW_USE_INITIAL_FLOW;
   }
-  cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, error, lk_window, lk_levels, criteria, flags);
+  cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, cv::noArray(), lk_window, lk_levels, criteria, flags);
   // Backward from the tracked position, started at the original one over one pyramid level (as
   // VINS-Mono does): a consistent track returns within a fraction of a pixel, at a quarter of the
   // forward cost.
   back = prev;
-  cv::calcOpticalFlowPyrLK(pyramid, pyramid_prev, next, back, status_back, error, lk_window, std::min(lk_levels, 1),
+  cv::calcOpticalFlowPyrLK(pyramid, pyramid_prev, next, back, status_back, cv::noArray(), lk_window, std::min(lk_levels, 1),
                            criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
   const cv::Size size = pyramid[0].size();
   const float b = static_cast<float>(options_.border_px);
