@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/frame_memory.h"
 #include "core/sequence.h"
 
 int main(int argc, char** argv) {
+  slamcmp::keepFreedMemoryForReuse();  // as slamcmp does, before the decoding threads start
   if (argc != 2) {
     std::fprintf(stderr, "usage: decode_only SEQUENCE\n");
     return 2;

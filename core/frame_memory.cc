@@ -1,6 +1,7 @@
 #include "core/frame_memory.h"
 
 #include <cstdlib>
+#include <cstring>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -8,13 +9,17 @@
 
 namespace slamcmp {
 
-void keepFreedMemoryForReuse() {
+bool keepFreedMemoryForReuse() {
 #if defined(__GLIBC__)
-  if (std::getenv("GLIBC_TUNABLES")) return;
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if ((tunables && std::strstr(tunables, "glibc.malloc.")) || std::getenv("MALLOC_MMAP_THRESHOLD_") ||
+      std::getenv("MALLOC_TRIM_THRESHOLD_"))
+    return false;
   // glibc's largest mmap threshold (32 MB on 64-bit): a block under it comes from the heap and, once
   // freed, stays there for the next; the heap keeps up to 256 MB of free top (its peak is the run's).
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  return mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 && mallopt(M_TRIM_THRESHOLD, 256 << 20) == 1;
+#else
+  return false;
 #endif
 }
 

@@ -78,7 +78,8 @@ int TrackedPoints::measure(EkfState& state, TailLayout& tail, const std::vector<
                              criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
     for (size_t k = 0; k < ids.size(); ++k) {
       const cv::Point2f d = to[k] - tracked.at(ids[k]);
-      if (status[k] && d.dot(d) <= max2) found.emplace(ids[k], Vec2(to[k].x, to[k].y));
+      const Vec2 uv(to[k].x, to[k].y);  // in the image: LK's status does not say so without its error output
+      if (status[k] && d.dot(d) <= max2 && camera_.inImage(uv)) found.emplace(ids[k], uv);
     }
   }
   std::vector<int> drop;

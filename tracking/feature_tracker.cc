@@ -45,6 +45,8 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
     next = *predicted_uv;
     flags = cv::OPTFLOW_USE_INITIAL_FLOW;
   }
+  // Without the per-point error, LK's status no longer drops a point ending outside the image: the
+  // border test below does.
   cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, cv::noArray(), lk_window, lk_levels, criteria, flags);
   // Backward from the tracked position, started at the original one over one pyramid level (as
   // VINS-Mono does): a consistent track returns within a fraction of a pixel, at a quarter of the
