@@ -73,6 +73,8 @@ struct BackendRegistration {
   bool takes_init = false;         // accepts --init (board | groundtruth | manual:FILE | none)
   // The stage names its frames' CPU times use (summary.json `stages`), in the order a frame runs them.
   std::vector<std::string> stages;
+  // Stages timed only with some options or starts, not in every run (monoslam's two_view).
+  std::vector<std::string> optional_stages;
   std::function<std::unique_ptr<BackendOptions>()> default_options;
   // context.mode is one of `modes`; options are checked. Throws InputError for a context the
   // back-end cannot work with (no camera, no target, ...).

@@ -275,10 +275,12 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       }
     }
     last_timestamp_ = frame.timestamp;
+    if (two_view_) {  // the orientation first: the patches are then searched about the turn the tracks measured
+      const StageTimer timer(&result.stages, "two_view");
+      two_view_->update(frame.grey, slam_.state());
+    }
     {
       const StageTimer timer(&result.stages, "features");
-      // The orientation first: the patches are then searched about the turn the tracks measured.
-      if (two_view_) two_view_->update(frame.grey, slam_.state());
       measurement = slam_.measure(frame.grey);
     }
     visible_ = measurement.visible;
@@ -357,6 +359,7 @@ BackendRegistration monoslamBackend() {
         return std::make_unique<MonoslamTracker>(context, options);
       });
   r.stages = {"predict", "features", "map"};
+  r.optional_stages = {"two_view"};  // board-free runs with two_view_orientation, between predict and features
   return r;
 }
 

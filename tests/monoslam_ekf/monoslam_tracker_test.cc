@@ -514,6 +514,11 @@ TEST(MonoslamTracker, TwoViewOrientationFollowsAHandHeldTurn) {
   ASSERT_TRUE(options.two_view_orientation.enabled);
   const RunResult run = runTracker(dir.path(), InitSource::None, std::nullopt, -1, options);
   EXPECT_GE(run.tracked, 114);
+  // Its cost is timed as a stage of its own in every frame after the first.
+  const int timed = static_cast<int>(std::count_if(run.results.begin(), run.results.end(), [](const FrameResult& r) {
+    return std::any_of(r.stages.begin(), r.stages.end(), [](const auto& s) { return s.first == "two_view"; });
+  }));
+  EXPECT_EQ(timed, run.frames - 1);
   const Statistics errors = computeStatistics(turnErrorsDeg(dir.path(), run));
   std::printf("%d posed, orientation RMSE %.3f deg, at most %.3f\n", run.tracked, errors.rmse, errors.max);
   EXPECT_LT(errors.rmse, 0.5);
