@@ -2,9 +2,9 @@
 // Memory a frame's work frees, kept for the next frame. glibc gives blocks over its mmap threshold
 // back to the kernel when they are freed, and trims the free top of its heap, so the frame-sized
 // buffers OpenCV allocates and frees inside each call (cornerMinEigenVal: derivatives and their
-// products, five 640x480 float planes) are faulted in again, page by page, in every call: Shi-Tomasi
-// on a 640x480 frame took 24-34 ms so on this project's machine, 3.2-3.7 ms with the memory kept
-// (docs/findings.md, session 34).
+// products, five 640x480 float planes) are faulted in again, page by page, in every call. On this
+// project's machine Shi-Tomasi on a 640x480 frame took 24-34 ms that way and 3.2-3.7 ms with the
+// memory kept (docs/findings.md, session 34).
 namespace slamcmp {
 
 // Raises both thresholds for the whole process. The user's malloc settings win: nothing is changed

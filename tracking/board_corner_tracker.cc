@@ -469,7 +469,8 @@ std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& 
     std::vector<cv::Point2f> uv;
     std::vector<uchar> status;
     // Coarse convergence is enough: the corners are refined to sub-pixel next.
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels, kCoarseLk);
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels,
+                             kCoarseLk);
     bool all = true;
     for (size_t i = 0; i < uv.size() && all; ++i)
       all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
@@ -528,8 +529,8 @@ std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
       if (predicted.size() == corners_.ids.size()) uv = std::move(predicted), flags = cv::OPTFLOW_USE_INITIAL_FLOW;
     }
     std::vector<uchar> status;
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels, kCoarseLk,
-                             flags);
+    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels,
+                             kCoarseLk, flags);
     const double margin = refineMarginPx(corners_);
     BoardCorners tracked;
     for (size_t k = 0; k < uv.size(); ++k) {
