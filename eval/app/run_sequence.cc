@@ -8,6 +8,8 @@
 #include <memory>
 #include <set>
 
+#include <opencv2/core/utility.hpp>
+
 #include "core/error.h"
 #include "core/frame_prefetcher.h"
 #include "core/interrupt.h"
@@ -29,6 +31,18 @@ namespace slamcmp {
 namespace {
 
 extern "C" void onInterrupt(int) { requestInterrupt(); }
+
+// OpenCV's thread count for one run, restored after it (the fuzzer runs many in one process).
+class OpenCvThreads {
+ public:
+  explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()) { cv::setNumThreads(threads); }
+  ~OpenCvThreads() { cv::setNumThreads(previous_); }
+  OpenCvThreads(const OpenCvThreads&) = delete;
+  OpenCvThreads& operator=(const OpenCvThreads&) = delete;
+
+ private:
+  int previous_;
+};
 
 // TrackerContext.init from "board", "groundtruth", "manual:FILE" or "none".
 void setInitialisation(const std::string& init, const Sequence& seq, TrackerContext* context) {
@@ -78,6 +92,8 @@ std::string defaultRunDir(const std::string& sequence_name, const std::string& b
 nlohmann::json runSequence(const RunRequest& request) {
   // Not "the sequence has no frames", which is what an empty run would say at its end.
   if (request.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
+  if (request.opencv_threads < 1) throw InputError("--threads", "must be at least 1");
+  const OpenCvThreads opencv_threads(request.opencv_threads);
   if (request.show) requireDisplay();
   SequenceOpenOptions open_options;
   open_options.camera_path = request.camera_path;
@@ -187,6 +203,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["mode"] = context.mode;
   if (backend.takes_init) extra["init"] = request.init.empty() ? "board" : request.init;
   extra["interrupted"] = interrupted() || quit;
+  extra["opencv_threads"] = request.opencv_threads;  // 1: cpu_ms is a frame's whole CPU time
   if (board_symmetric) extra["board_symmetric"] = true;
   extra["options"] = tracker->options();
   // A board-free start has no metric world frame: its world is its first camera's and its unit

@@ -1,0 +1,42 @@
+// `run --threads N`: a run gives OpenCV N threads (1 by default, so that it takes one core and a
+// frame's cpu_ms, the tracking thread's CPU time, is all of the frame's cost), says so in
+// summary.json, and leaves OpenCV's setting as it found it.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
+
+#include "eval/app/run_sequence.h"
+#include "tests/test_util.h"
+
+namespace slamcmp {
+namespace {
+
+TEST(OpenCvThreads, ARunTracksOnTheThreadsItIsGivenAndRestoresOpenCvsSetting) {
+  test::TempDir tmp;
+  ASSERT_EQ(test::runSlamcmp("synth --preset tv1 --frames 4 --supersample 1 --out " + tmp.file("tv1")).exit_code, 0);
+  const int before = cv::getNumThreads();
+  for (const int threads : {1, 3}) {
+    RunRequest request;
+    request.backend = "cslam";
+    request.sequence_path = tmp.file("tv1");
+    request.out_dir = tmp.file("run" + std::to_string(threads));
+    request.progress = false;
+    if (threads != 1) request.opencv_threads = threads;  // 1: the default
+    std::vector<int> seen;
+    request.on_frame = [&seen] { seen.push_back(cv::getNumThreads()); };
+    const nlohmann::json summary = runSequence(request);
+    EXPECT_EQ(summary["opencv_threads"], threads);
+    ASSERT_EQ(seen.size(), 4u);
+    for (const int n : seen) EXPECT_EQ(n, threads);
+    EXPECT_EQ(cv::getNumThreads(), before);
+  }
+  const auto bad = test::runSlamcmp("run --backend cslam --threads 0 --sequence " + tmp.file("tv1"));
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--threads"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace slamcmp
