@@ -94,6 +94,7 @@ void MapManagementOptions::check() const {
   require(max_features >= 1, "max_features", "must be at least 1");
   require(min_attempts >= 1, "min_attempts", "must be at least 1");
   require(min_success_ratio >= 0 && min_success_ratio <= 1, "min_success_ratio", "must be in [0, 1]");
+  require(max_misses_in_a_row >= 0, "max_misses_in_a_row", "must not be negative");
 }
 
 void HealthOptions::check() const {

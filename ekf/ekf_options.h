@@ -158,11 +158,17 @@ struct MapManagementOptions {
   int max_features = 100;            // mapped points plus initialising rays
   int min_attempts = 10;             // attempts before a feature may be judged
   double min_success_ratio = 0.5;    // a judged feature matching less often than this is deleted
+  // A feature missed this many attempts in a row is deleted whatever its record (0: never; the
+  // SceneLib baseline judges the record alone). A hand-held turn can leave a map of features
+  // matched well before and no longer, each held by its record while the frame finds 3 of 45.
+  int max_misses_in_a_row = 0;
   template <class V>
   void visit(V& v) {
     v("max_features", max_features, "mapped points plus initialising rays");
     v("min_attempts", min_attempts, "match attempts before a feature may be deleted");
     v("min_success_ratio", min_success_ratio, "delete a feature matching less often than this");
+    v("max_misses_in_a_row", max_misses_in_a_row,
+      "delete a feature missed this many attempts in a row, whatever its record (0: never)");
   }
   void check() const;
 };

@@ -148,8 +148,9 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<V
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
     const MapFeature& f = features_[i];
-    if (!f.is_ray && f.id >= protected_below_ && f.attempts >= mo.min_attempts &&
-        f.successes < mo.min_success_ratio * f.attempts)
+    const bool judged = f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts;
+    const bool missed = mo.max_misses_in_a_row > 0 && f.misses_in_a_row >= mo.max_misses_in_a_row;
+    if (!f.is_ray && f.id >= protected_below_ && (judged || missed))
       removeFeature(i);
     else
       ++i;
@@ -328,7 +329,7 @@ void EkfSlam::relocate(const SE3& T_world_camera, const Eigen::Matrix<double, 13
   }
   for (size_t i = features_.size(); i-- > 0;)
     if (features_[i].id >= below_id) removeFeature(i);
-  for (MapFeature& f : features_) f.attempts = f.successes;
+  for (MapFeature& f : features_) f.attempts = f.successes, f.misses_in_a_row = 0;
   Eigen::VectorXd& x = state_.x();
   x.segment<3>(EkfState::kR) = T_world_camera.t();
   x.segment<4>(EkfState::kQ) = quatVector(T_world_camera.quat());

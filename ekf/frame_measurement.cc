@@ -180,6 +180,7 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     MapFeature& f = features[s.index];
     s.outcome = SearchOutcome::Failed;
     ++f.attempts;
+    ++f.misses_in_a_row;
     cv::Mat templ;
     if (!warpTemplate(f.source, camera, T_world_camera, featurePoint(state.x(), f), s.uv_predicted,
                       so.patch_size, &templ) ||
@@ -240,6 +241,7 @@ FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& featu
     s.outcome = SearchOutcome::Matched;
     s.uv_matched = searched[k].z + s.rolling_shift;
     ++features[s.index].successes;
+    features[s.index].misses_in_a_row = 0;
   }
   out.matched = static_cast<int>(kept.size());
   return out;

@@ -19,6 +19,7 @@ struct MapFeature {
   DepthParticles particles;
   int ray_frames = 0;
   int attempts = 0, successes = 0;
+  int misses_in_a_row = 0;  // attempts since its last match
   cv::Mat descriptor;    // ORB of its first view, for relocalisation (ekf/relocaliser.h); empty if none
   int dim() const { return is_ray || inverse_depth ? 6 : 3; }  // its block in the state
 };
