@@ -159,8 +159,9 @@ struct MapManagementOptions {
   int min_attempts = 10;             // attempts before a feature may be judged
   double min_success_ratio = 0.5;    // a judged feature matching less often than this is deleted
   // A feature missed this many attempts in a row is deleted whatever its record (0: never; the
-  // SceneLib baseline judges the record alone). A hand-held turn can leave a map of features
-  // matched well before and no longer, each held by its record while the frame finds 3 of 45.
+  // SceneLib baseline judges the record alone): a fast turn can leave a map of features matched
+  // well before and no longer, each kept by its record (docs/findings.md, session 35). A board's
+  // known corners are kept.
   int max_misses_in_a_row = 0;
   template <class V>
   void visit(V& v) {
@@ -168,7 +169,7 @@ struct MapManagementOptions {
     v("min_attempts", min_attempts, "match attempts before a feature may be deleted");
     v("min_success_ratio", min_success_ratio, "delete a feature matching less often than this");
     v("max_misses_in_a_row", max_misses_in_a_row,
-      "delete a feature missed this many attempts in a row, whatever its record (0: never)");
+      "delete a feature missed this many attempts in a row, whatever its record (0: never; not a board's corners)");
   }
   void check() const;
 };

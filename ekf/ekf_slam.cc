@@ -148,9 +148,11 @@ void EkfSlam::pruneAndGrow(const cv::Mat& grey, int visible, const std::vector<V
   const MapManagementOptions& mo = options_.map;
   for (size_t i = 0; i < features_.size();) {
     const MapFeature& f = features_[i];
-    const bool judged = f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts;
-    const bool missed = mo.max_misses_in_a_row > 0 && f.misses_in_a_row >= mo.max_misses_in_a_row;
-    if (!f.is_ray && f.id >= protected_below_ && (judged || missed))
+    const bool poor_record = f.attempts >= mo.min_attempts && f.successes < mo.min_success_ratio * f.attempts;
+    // A board's known corners fix the map's scale and are never added again: only their record judges them.
+    const bool missed_in_a_row =
+        !f.known && mo.max_misses_in_a_row > 0 && f.misses_in_a_row >= mo.max_misses_in_a_row;
+    if (!f.is_ray && f.id >= protected_below_ && (poor_record || missed_in_a_row))
       removeFeature(i);
     else
       ++i;

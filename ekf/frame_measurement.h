@@ -56,10 +56,10 @@ Vec3 featurePoint(const Eigen::VectorXd& x, const MapFeature& feature);
 Mat3 featurePointCovariance(const EkfState& state, const MapFeature& feature);
 
 // Measures the points and inverse-depth features (rays are skipped) and updates `state`; counts
-// attempts and successes in `features`. Each feature's S is read from its own blocks of P (O(1));
-// the update is O(n^2 m). The matches are chosen by joint compatibility among each feature's
-// candidates (O(m^2) per test), or with `ransac` by 1-point RANSAC over each one's best-correlating
-// candidate (one_point_ransac.h; its draws from `rng`).
+// attempts, successes and misses in a row in `features`. Each feature's S is read from its own
+// blocks of P (O(1)); the update is O(n^2 m). The matches are chosen by joint compatibility among
+// each feature's candidates (O(m^2) per test), or with `ransac` by 1-point RANSAC over each one's
+// best-correlating candidate (one_point_ransac.h; its draws from `rng`).
 FrameMeasurement measureFeatures(EkfState& state, std::vector<MapFeature>& features, const CameraModel& camera,
                                  const cv::Mat& grey, const ActiveSearchOptions& options,
                                  const OnePointRansacOptions* ransac = nullptr, std::mt19937* rng = nullptr);

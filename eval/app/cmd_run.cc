@@ -39,8 +39,8 @@ void addRunCommand(CLI::App& app) {
                   "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
                   "a folder of PNGs, with overlay.csv listing the drawn positions")->check(nonEmptyPath());
   cmd->add_option("--threads", request->opencv_threads,
-                  "OpenCV's threads for the back-end; with 1 (the default) the run takes one core and "
-                  "frames.csv's cpu_ms is a frame's whole CPU time, with more OpenCV's workers are not counted in it")
+                  "OpenCV's threads for the back-end; with 1 (the default) its work stays on the tracking thread, "
+                  "whose CPU time is frames.csv's cpu_ms; with more, its workers' time is not in cpu_ms")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");

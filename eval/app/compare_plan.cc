@@ -271,8 +271,8 @@ Plan makePlan(const CompareOptions& options) {
 }
 
 std::string jobLine(const PlannedRun& run, const std::string& dir) {
-  std::string line = runEnvironment();
-  for (const std::string& a : run.argv) line += " " + shellQuoted(a);
+  std::string line;
+  for (const std::string& a : run.argv) line += (line.empty() ? "" : " ") + shellQuoted(a);
   return line + " > " + shellQuoted((fs::path(dir) / run.log).string()) + " 2>&1";
 }
 

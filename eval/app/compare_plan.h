@@ -10,10 +10,6 @@
 
 namespace slamcmp {
 
-// Every run gets this in its environment: OpenCV on one thread, so that a run takes one core
-// (a scheduler's slot) and the tracking thread's CPU time is all of the back-end's.
-inline const char* runEnvironment() { return "OPENCV_FOR_THREADS_NUM=1"; }
-
 // Checks the options (InputError naming the option), opens every sequence, renders the trials'
 // synthetic sequences into <out>/sequences/seed<k>/, and lists the runs. Removes the planned runs'
 // old folders and logs, so that a collect never reads a previous plan's run.

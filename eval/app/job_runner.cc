@@ -16,14 +16,12 @@
 #include "eval/app/compare_plan.h"
 #include "eval/app/run_sequence.h"
 
-extern char** environ;
-
 namespace slamcmp {
 
 namespace {
 
-// Starts the run with its log as stdout and stderr and runEnvironment() added to ours. Everything
-// the child needs is made before fork: between fork and exec only async-signal-safe calls.
+// Starts the run with its log as stdout and stderr. Everything the child needs is made before fork:
+// between fork and exec only async-signal-safe calls.
 pid_t startRun(const PlannedRun& run, const std::string& dir) {
   const std::string log = (std::filesystem::path(dir) / run.log).string();
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -31,18 +29,11 @@ pid_t startRun(const PlannedRun& run, const std::string& dir) {
   std::vector<char*> argv;
   for (const std::string& a : run.argv) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  const std::string extra = runEnvironment();
-  const std::string extra_name = extra.substr(0, extra.find('=') + 1);
-  std::vector<char*> envp;
-  for (char** e = environ; *e; ++e)
-    if (std::string(*e).compare(0, extra_name.size(), extra_name) != 0) envp.push_back(*e);
-  envp.push_back(const_cast<char*>(extra.c_str()));
-  envp.push_back(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
     dup2(fd, STDOUT_FILENO);
     dup2(fd, STDERR_FILENO);
-    execve(argv[0], argv.data(), envp.data());
+    execv(argv[0], argv.data());
     _exit(127);
   }
   close(fd);

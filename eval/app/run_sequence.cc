@@ -32,7 +32,8 @@ namespace {
 
 extern "C" void onInterrupt(int) { requestInterrupt(); }
 
-// OpenCV's thread count for one run, restored after it (the fuzzer runs many in one process).
+// OpenCV's thread count for one run, restored after it (the fuzzer runs many in one process) as
+// getNumThreads() reports it: a setting of 0 (sequential) reads back as the core count.
 class OpenCvThreads {
  public:
   explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()) { cv::setNumThreads(threads); }
@@ -203,7 +204,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   extra["mode"] = context.mode;
   if (backend.takes_init) extra["init"] = request.init.empty() ? "board" : request.init;
   extra["interrupted"] = interrupted() || quit;
-  extra["opencv_threads"] = request.opencv_threads;  // 1: cpu_ms is a frame's whole CPU time
+  extra["opencv_threads"] = request.opencv_threads;
   if (board_symmetric) extra["board_symmetric"] = true;
   extra["options"] = tracker->options();
   // A board-free start has no metric world frame: its world is its first camera's and its unit

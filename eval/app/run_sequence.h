@@ -25,9 +25,8 @@ struct RunRequest {
   bool progress = true;       // a progress line on a terminal
   std::string overlay_path;   // run --overlay: video file or PNG folder of drawn frames; "" = none
   bool show = false;          // run --show: the drawn frames in a live window
-  // OpenCV's threads for the back-end (run --threads). With 1 the run takes one core and a frame's
-  // cpu_ms, the tracking thread's CPU time, is all of its cost; with more, OpenCV's workers take
-  // part of each frame and their time is not in cpu_ms.
+  // OpenCV's threads for the back-end (run --threads). With 1 OpenCV's work stays on the tracking
+  // thread, whose CPU time is a frame's cpu_ms; with more, its workers' part is not in cpu_ms.
   int opencv_threads = 1;
   std::function<void()> on_frame;  // called after each frame (compare's overall progress)
 };

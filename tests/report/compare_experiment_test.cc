@@ -351,7 +351,7 @@ TEST(CompareExperiment, PlanThenCollectIsByteIdenticalToACompare) {
   EXPECT_EQ(planCompare(planned), 2u);
   const std::vector<std::string> jobs = test::readLines(tmp.file("planned/jobs.txt"));
   ASSERT_EQ(jobs.size(), 2u);
-  EXPECT_EQ(jobs[0].rfind("OPENCV_FOR_THREADS_NUM=1 /", 0), 0u) << jobs[0];  // absolute paths
+  EXPECT_EQ(jobs[0].rfind('/', 0), 0u) << jobs[0];  // absolute paths
   EXPECT_NE(jobs[0].find(" run --backend cslam --sequence " + fs::absolute(seq).string()), std::string::npos) << jobs[0];
   EXPECT_NE(jobs[0].find("--out " + fs::absolute(tmp.file("planned/runs/tv1-cslam")).string()), std::string::npos);
   const std::string sbatch = readFile(tmp.file("planned/slurm.sbatch"));
