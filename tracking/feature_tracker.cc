@@ -50,9 +50,10 @@ void FeatureTracker::track(const std::vector<cv::Mat>& pyramid_prev, const std::
   cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, prev, next, status, cv::noArray(), lk_window, lk_levels, criteria,
                            flags);
   // Backward from the tracked position, started at the original one over one pyramid level (as
-  // VINS-Mono does): a consistent track returns within a fraction of a pixel. It costs nearly as
-  // much as the forward pass (250 tum_fr1_rpy tracks, 21 px: 2.6 against 2.9 ms): each level's
-  // window is set up afresh whatever the motion.
+  // VINS-Mono does): a consistent track returns within a fraction of a pixel. It costs two thirds
+  // of the forward pass (250 tum_fr1_rpy tracks, 21 px, one core: 1.3 against 2.1 ms): each level's
+  // window is set up afresh whatever the motion. Over the image alone (0.7 ms) the check lets more
+  // wrong tracks through (docs/findings.md, session 35).
   back = prev;
   cv::calcOpticalFlowPyrLK(pyramid, pyramid_prev, next, back, status_back, cv::noArray(), lk_window,
                            std::min(lk_levels, 1), criteria, cv::OPTFLOW_USE_INITIAL_FLOW);

@@ -41,8 +41,7 @@ void addRunCommand(CLI::App& app) {
   cmd->add_option("--threads", request->opencv_threads,
                   "OpenCV's threads for the back-end; with 1 (the default) its work stays on the tracking thread, "
                   "whose CPU time is frames.csv's cpu_ms; with more, its workers' time is not in cpu_ms")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1024));
+      ->capture_default_str();  // checked by runSequence, which compare's and the fuzzer's runs also call
   cmd->add_flag("--show", request->show, "show the drawn frames in a live window (q or Esc stops the run)");
   cmd->footer(backendsHelp());
   cmd->callback([request, seed, seed_option] {
