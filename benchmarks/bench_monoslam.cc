@@ -13,16 +13,28 @@
 // compatibility and the batch update (measureFeatures), one core; the points lie on a textured
 // plane the camera sees. Not included: the rays' particle search and new-feature selection,
 // which do not depend on N.
+// The board-free hand-held frame's two-view stage (issue 18; configs/monoslam_handheld.yaml), in its
+// two parts, on tum_fr1_rpy (skipped where ../shared is absent): BM_TwoViewTracks, one frame's
+// pyramid, its tracks moved on from the last frame (Lucas-Kanade forward, checked backward) and
+// replenished; BM_MultiBaselineRotation, one frame's orientation from the views of the frames
+// before it (a rotation-only fit and three refinements of the two-view motion a view). Their time
+// is the mean a frame; the counter median_ms the median frame's CPU time, as issue 18 counts it.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "benchmarks/bench_frames.h"
 
 #include "core/camera.h"
+#include "core/stage_timer.h"
+#include "core/statistics.h"
 #include "ekf/ekf_state.h"
 #include "ekf/ekf_update.h"
 #include "ekf/frame_measurement.h"
@@ -32,6 +44,9 @@
 #include "ekf/motion_model.h"
 #include "ekf/patch_search.h"
 #include "ekf/patch_warp.h"
+#include "geometry/multi_baseline_rotation.h"
+#include "monoslam_ekf/two_view_orientation.h"
+#include "tracking/feature_tracker.h"
 
 namespace slamcmp {
 namespace {
@@ -279,6 +294,97 @@ void BM_EkfFrame(benchmark::State& bench) {
   bench.counters["matched"] = matched;
 }
 BENCHMARK(BM_EkfFrame)->ArgsProduct({kMapSizes})->ArgName("N")->Unit(benchmark::kMicrosecond)->MinTime(1.0);
+
+// tum_fr1_rpy's 250 frames tracked as the two-view stage tracks them: the tracker after each
+// frame and its tracks.
+struct TumTwoView {
+  const BenchSequence* b = nullptr;
+  CameraModel camera;
+  TwoViewOrientationOptions options;
+  std::vector<FeatureTracker> trackers;  // after frame k
+  std::vector<FrameTracks> tracks;       // frame k's, undistorted
+  cv::Size window() const { return cv::Size(options.lk_window_px, options.lk_window_px); }
+};
+
+const TumTwoView* tumTwoView() {
+  static const std::unique_ptr<TumTwoView> data = []() -> std::unique_ptr<TumTwoView> {
+    const BenchSequence* b = sharedSequence("tum_fr1_rpy", 250);
+    if (!b || !b->seq.camera || b->frames.size() < 2) return nullptr;
+    auto d = std::make_unique<TumTwoView>();
+    d->b = b;
+    d->camera = *b->seq.camera;
+    FeatureTracker tracker(d->options.tracks);
+    std::vector<cv::Mat> previous, pyramid;
+    for (const Frame& frame : b->frames) {
+      cv::buildOpticalFlowPyramid(frame.grey, pyramid, d->window(), d->options.lk_levels);
+      if (!previous.empty()) tracker.track(previous, pyramid, d->window(), d->options.lk_levels);
+      tracker.replenish(frame.grey);
+      std::swap(previous, pyramid);
+      d->trackers.push_back(tracker);
+      FrameTracks tracks;
+      for (const Feature& f : tracker.features())
+        tracks.emplace_back(f.id, d->camera.undistortPixel(Vec2(f.uv.x, f.uv.y)));
+      d->tracks.push_back(std::move(tracks));
+    }
+    return d;
+  }();
+  return data.get();
+}
+
+const TumTwoView* tumOrSkip(benchmark::State& bench) {
+  cv::setNumThreads(1);  // one core, as `slamcmp run` tracks
+  const TumTwoView* d = tumTwoView();
+  if (!d) bench.SkipWithError("../shared/datasets/tum_fr1_rpy is absent");
+  return d;
+}
+
+void BM_TwoViewTracks(benchmark::State& bench) {
+  const TumTwoView* d = tumOrSkip(bench);
+  if (!d) return;
+  const std::vector<Frame>& frames = d->b->frames;
+  size_t k = 1;
+  int64_t tracked = 0;
+  std::vector<double> frame_ms;
+  std::vector<cv::Mat> previous, pyramid;
+  for (auto _ : bench) {
+    bench.PauseTiming();  // the last frame's pyramid, built in that frame
+    FeatureTracker tracker = d->trackers[k - 1];
+    cv::buildOpticalFlowPyramid(frames[k - 1].grey, previous, d->window(), d->options.lk_levels);
+    bench.ResumeTiming();
+    const double start_ms = threadCpuMs();
+    cv::buildOpticalFlowPyramid(frames[k].grey, pyramid, d->window(), d->options.lk_levels);
+    tracker.track(previous, pyramid, d->window(), d->options.lk_levels);
+    tracked += static_cast<int64_t>(tracker.features().size());
+    tracker.replenish(frames[k].grey);
+    frame_ms.push_back(threadCpuMs() - start_ms);
+    k = k + 1 < frames.size() ? k + 1 : 1;
+  }
+  bench.counters["tracked"] = benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
+  bench.counters["median_ms"] = median(frame_ms);
+}
+BENCHMARK(BM_TwoViewTracks)->Unit(benchmark::kMillisecond)->Iterations(249 * 2);
+
+void BM_MultiBaselineRotation(benchmark::State& bench) {
+  const TumTwoView* d = tumOrSkip(bench);
+  if (!d) return;
+  const MultiBaselineRotationOptions& o = d->options.rotation;
+  // Frame k with the max_gap frames before it remembered (their orientations do not change the cost).
+  std::vector<MultiBaselineRotation> views;
+  for (int k = o.max_gap; k < static_cast<int>(d->tracks.size()); ++k) {
+    views.emplace_back(o, d->camera.fx);
+    for (int j = k - o.max_gap; j < k; ++j) views.back().remember(d->tracks[j], Mat3::Identity());
+  }
+  size_t i = 0;
+  std::vector<double> frame_ms;
+  for (auto _ : bench) {
+    const double start_ms = threadCpuMs();
+    benchmark::DoNotOptimize(views[i].measure(d->tracks[o.max_gap + i]));
+    frame_ms.push_back(threadCpuMs() - start_ms);
+    i = (i + 1) % views.size();
+  }
+  bench.counters["median_ms"] = median(frame_ms);
+}
+BENCHMARK(BM_MultiBaselineRotation)->Unit(benchmark::kMillisecond)->Iterations(240 * 2);
 
 }  // namespace
 }  // namespace slamcmp
