@@ -16,9 +16,9 @@
 // The board-free hand-held frame's two-view stage (issue 18; configs/monoslam_handheld.yaml), its
 // two costly parts, on tum_fr1_rpy (skipped where ../shared is absent): BM_TwoViewTracks, one
 // frame's pyramid, its tracks moved on from the last frame (Lucas-Kanade forward, checked backward)
-// and replenished; BM_MultiBaselineRotation, one frame's orientation from the views of the frames
-// before it (a rotation-only fit and three refinements of the two-view motion a view). Left out:
-// undistorting the tracks and the filter's orientation update. Their time
+// and replenished, undistorted (TwoViewOrientation::track); BM_MultiBaselineRotation, one frame's
+// orientation from the views of the frames before it (a rotation-only fit and three refinements
+// of the two-view motion a view). Left out: the filter's orientation update. Their time
 // is the mean a frame; the counter median_ms the median frame's CPU time, as issue 18 counts it.
 #include <benchmark/benchmark.h>
 
@@ -27,12 +27,10 @@
 #include <memory>
 #include <random>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
 #include "benchmarks/bench_frames.h"
 
@@ -50,7 +48,6 @@
 #include "ekf/patch_warp.h"
 #include "geometry/multi_baseline_rotation.h"
 #include "monoslam_ekf/two_view_orientation.h"
-#include "tracking/feature_tracker.h"
 
 namespace slamcmp {
 namespace {
@@ -302,36 +299,23 @@ BENCHMARK(BM_EkfFrame)->ArgsProduct({kMapSizes})->ArgName("N")->Unit(benchmark::
 constexpr int kTumFrames = 250;  // tum_fr1_rpy's
 const int kTumMaxGap = TwoViewOrientationOptions().rotation.max_gap;
 
-// tum_fr1_rpy's frames tracked as the two-view stage tracks them: the tracker after each frame and
-// its tracks.
+// tum_fr1_rpy's frames and each one's tracks as the two-view stage makes them.
 struct TumTwoView {
   const BenchSequence* b = nullptr;
-  CameraModel camera;
   TwoViewOrientationOptions options;
-  std::vector<FeatureTracker> trackers;  // after frame k
-  std::vector<FrameTracks> tracks;       // frame k's, undistorted
-  cv::Size window() const { return cv::Size(options.lk_window_px, options.lk_window_px); }
+  std::vector<FrameTracks> tracks;  // frame k's, undistorted
 };
 
 const TumTwoView* tumTwoView() {
   static const std::unique_ptr<TumTwoView> data = []() -> std::unique_ptr<TumTwoView> {
     const BenchSequence* b = sharedSequence("tum_fr1_rpy", kTumFrames);
-    if (!b) return nullptr;
+    if (!b || !b->seq.camera) return nullptr;
     auto d = std::make_unique<TumTwoView>();
     d->b = b;
-    d->camera = *b->seq.camera;
-    FeatureTracker tracker(d->options.tracks);
-    std::vector<cv::Mat> previous, pyramid;
+    TwoViewOrientation stage(*b->seq.camera, d->options);
     for (const Frame& frame : b->frames) {
-      cv::buildOpticalFlowPyramid(frame.grey, pyramid, d->window(), d->options.lk_levels);
-      if (!previous.empty()) tracker.track(previous, pyramid, d->window(), d->options.lk_levels);
-      tracker.replenish(frame.grey);
-      std::swap(previous, pyramid);
-      d->trackers.push_back(tracker);
-      FrameTracks tracks;
-      for (const Feature& f : tracker.features())
-        tracks.emplace_back(f.id, d->camera.undistortPixel(Vec2(f.uv.x, f.uv.y)));
-      d->tracks.push_back(std::move(tracks));
+      stage.track(frame.grey);
+      d->tracks.push_back(stage.tracks());
     }
     return d;
   }();
@@ -343,34 +327,39 @@ const TumTwoView* tumOrSkip(benchmark::State& bench) {
   const TumTwoView* d = tumTwoView();
   if (!d) {
     bench.SkipWithError("../shared/datasets/tum_fr1_rpy is absent");
-  } else if (!d->b->seq.camera || static_cast<int>(d->b->frames.size()) < kTumFrames) {
-    bench.SkipWithError(("../shared/datasets/tum_fr1_rpy: no camera.yaml, or fewer than " + std::to_string(kTumFrames) +
-                         " frames").c_str());
+  } else if (static_cast<int>(d->b->frames.size()) < kTumFrames) {
+    bench.SkipWithError(("../shared/datasets/tum_fr1_rpy: fewer than " + std::to_string(kTumFrames) + " frames").c_str());
     return nullptr;
   }
   return d;
 }
 
+// The frames in order through one stage, as a run meets them (each frame after the first timed;
+// after the last the stage starts again from the first, untimed).
 void BM_TwoViewTracks(benchmark::State& bench) {
   const TumTwoView* d = tumOrSkip(bench);
   if (!d) return;
   const std::vector<Frame>& frames = d->b->frames;
+  const auto start = [&] {
+    auto stage = std::make_unique<TwoViewOrientation>(*d->b->seq.camera, d->options);
+    stage->track(frames.front().grey);
+    return stage;
+  };
+  std::unique_ptr<TwoViewOrientation> stage = start();
   size_t k = 1;
   int64_t tracked = 0;
   std::vector<double> frame_ms;
-  std::vector<cv::Mat> previous, pyramid;
   for (auto _ : bench) {
-    bench.PauseTiming();  // the last frame's pyramid, built in that frame
-    FeatureTracker tracker = d->trackers[k - 1];
-    cv::buildOpticalFlowPyramid(frames[k - 1].grey, previous, d->window(), d->options.lk_levels);
-    bench.ResumeTiming();
     const double start_ms = threadCpuMs();
-    cv::buildOpticalFlowPyramid(frames[k].grey, pyramid, d->window(), d->options.lk_levels);
-    tracker.track(previous, pyramid, d->window(), d->options.lk_levels);
-    tracked += static_cast<int64_t>(tracker.features().size());
-    tracker.replenish(frames[k].grey);
+    stage->track(frames[k].grey);
     frame_ms.push_back(threadCpuMs() - start_ms);
-    k = k + 1 < frames.size() ? k + 1 : 1;
+    tracked += static_cast<int64_t>(stage->tracks().size());
+    if (++k == frames.size()) {
+      bench.PauseTiming();
+      stage = start();
+      k = 1;
+      bench.ResumeTiming();
+    }
   }
   bench.counters["tracked"] = benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
   bench.counters["median_ms"] = median(frame_ms);
@@ -385,7 +374,7 @@ void BM_MultiBaselineRotation(benchmark::State& bench) {
   // refinements (the cost) are as in a run; only which views the mean keeps may differ.
   std::vector<MultiBaselineRotation> views;
   for (int k = o.max_gap; k < static_cast<int>(d->tracks.size()); ++k) {
-    views.emplace_back(o, d->camera.fx);
+    views.emplace_back(o, d->b->seq.camera->fx);
     for (int j = k - o.max_gap; j < k; ++j) views.back().remember(d->tracks[j], Mat3::Identity());
   }
   size_t i = 0;

@@ -26,6 +26,14 @@ TwoViewOrientation::TwoViewOrientation(const CameraModel& camera, const TwoViewO
     : camera_(camera), options_(options), tracker_(options.tracks), rotation_(options.rotation, camera.fx) {}
 
 void TwoViewOrientation::update(const cv::Mat& grey, EkfState& state) {
+  track(grey);
+  const std::optional<Mat3> R_world_camera = rotation_.measure(tracks_);
+  if (!R_world_camera) return;
+  const double sigma = options_.sigma_deg * M_PI / 180.0;
+  orientationUpdate(state, *R_world_camera, std::sqrt(sigma * sigma + reference_variance_));
+}
+
+void TwoViewOrientation::track(const cv::Mat& grey) {
   const cv::Size window(options_.lk_window_px, options_.lk_window_px);
   std::vector<cv::Mat> pyramid;
   cv::buildOpticalFlowPyramid(grey, pyramid, window, options_.lk_levels);
@@ -35,10 +43,6 @@ void TwoViewOrientation::update(const cv::Mat& grey, EkfState& state) {
   tracks_.clear();
   for (const Feature& f : tracker_.features())  // in the tracker's order: ids ascending
     tracks_.emplace_back(f.id, camera_.undistortPixel(Vec2(f.uv.x, f.uv.y)));
-  const std::optional<Mat3> R_world_camera = rotation_.measure(tracks_);
-  if (!R_world_camera) return;
-  const double sigma = options_.sigma_deg * M_PI / 180.0;
-  orientationUpdate(state, *R_world_camera, std::sqrt(sigma * sigma + reference_variance_));
 }
 
 void TwoViewOrientation::remember(const Mat3& R_world_camera, double rotation_variance) {

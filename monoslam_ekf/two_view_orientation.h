@@ -59,6 +59,10 @@ class TwoViewOrientation {
   // Tracks this frame's features from the last one's and, with the earlier frames remembered,
   // updates the state's orientation.
   void update(const cv::Mat& grey, EkfState& state);
+  // update()'s first half: this frame's pyramid and tracks (moved on from the last frame's and
+  // replenished), undistorted in tracks().
+  void track(const cv::Mat& grey);
+  const FrameTracks& tracks() const { return tracks_; }
   // The frame just updated: its tracks and the filter's orientation (after every update) are kept
   // for later frames; rotation_variance (rad^2, per axis) is that orientation's.
   void remember(const Mat3& R_world_camera, double rotation_variance);

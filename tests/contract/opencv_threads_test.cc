@@ -17,14 +17,18 @@ namespace {
 TEST(OpenCvThreads, ARunTracksOnTheThreadsItIsGivenAndRestoresOpenCvsSetting) {
   test::TempDir tmp;
   ASSERT_EQ(test::runSlamcmp("synth --preset tv1 --frames 4 --supersample 1 --out " + tmp.file("tv1")).exit_code, 0);
-  const int before = cv::getNumThreads();
-  for (const int threads : {1, 2}) {  // OpenCV's own default here is a thread per core
+  const auto runRequest = [&](int threads) {
     RunRequest request;
     request.backend = "cslam";
     request.sequence_path = tmp.file("tv1");
     request.out_dir = tmp.file("run" + std::to_string(threads));
     request.progress = false;
     if (threads != 1) request.opencv_threads = threads;  // 1: the default
+    return request;
+  };
+  const int before = cv::getNumThreads();
+  for (const int threads : {1, 2}) {  // OpenCV's own default here is a thread per core
+    RunRequest request = runRequest(threads);
     std::vector<int> seen;
     request.on_frame = [&seen] { seen.push_back(cv::getNumThreads()); };
     const nlohmann::json summary = runSequence(request);
@@ -33,12 +37,7 @@ TEST(OpenCvThreads, ARunTracksOnTheThreadsItIsGivenAndRestoresOpenCvsSetting) {
     for (const int n : seen) EXPECT_EQ(n, threads);
     EXPECT_EQ(cv::getNumThreads(), before);
   }
-  RunRequest none;
-  none.backend = "cslam";
-  none.sequence_path = tmp.file("tv1");
-  none.out_dir = tmp.file("run0");
-  none.opencv_threads = 0;
-  EXPECT_THROW(runSequence(none), InputError);
+  EXPECT_THROW(runSequence(runRequest(0)), InputError);
   const auto bad = test::runSlamcmp("run --backend cslam --threads 0 --sequence " + tmp.file("tv1"));
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
   EXPECT_NE(bad.err.find("--threads"), std::string::npos) << bad.err;
