@@ -47,6 +47,9 @@ struct TwoViewResult {
 TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
                                     double focal_px, const TwoViewOptions& options);
 
+// The essential matrix of a motion: E = [t]x R (b^T E a = 0 for a and b in normalised coordinates).
+inline Mat3 essentialFromMotion(const SE3& T_b_a) { return skew(T_b_a.t()) * T_b_a.R(); }
+
 // Levenberg-Marquardt on the Sampson distances of xy_a[i] <-> xy_b[i] (normalised coordinates)
 // over the motion's 5 degrees of freedom (rotation, and the translation direction on the unit
 // sphere), from T_b_a; numeric Jacobian. cauchy_scale > 0 (normalised units): the Cauchy loss

@@ -77,7 +77,7 @@ TEST(TwoViewMotion, RobustToOutliersAndAgreesWithOpenCV) {
     ASSERT_TRUE(r.ok) << r.reason;
     int outliers_kept = 0, inliers_lost = 0;
     for (size_t i = 0; i < outlier.size(); ++i) {
-      const double sampson_px = std::sqrt(sampsonErrorSquared(skew(truth.t()) * truth.R(), s.xy_a[i], s.xy_b[i])) * f;
+      const double sampson_px = std::sqrt(sampsonErrorSquared(essentialFromMotion(truth), s.xy_a[i], s.xy_b[i])) * f;
       outliers_kept += outlier[i] && r.inliers[i] && sampson_px > 3.0;
       inliers_lost += !outlier[i] && !r.inliers[i];
     }
