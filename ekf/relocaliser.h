@@ -21,6 +21,9 @@ class Relocaliser {
   // The ORB descriptor (1 x 32 bytes) of the corner at uv, steered by its intensity centroid as
   // ORB's own keypoints are; empty within ORB's 31-pixel patch of the image border.
   cv::Mat describe(const cv::Mat& grey, const Vec2& uv) const;
+  // ORB descriptors of the corners at `uv_distorted` (rows of the returned matrix); corners too
+  // near the border are dropped from it.
+  cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv_distorted) const;
   // T_world_camera from the map points p_world, with P_points their world covariances (one a
   // point) and row k of `descriptors` describing point k, matched in `grey`: nullopt when too few
   // agree (min_inliers of those known to within max_error_px where they project,
@@ -46,10 +49,6 @@ class Relocaliser {
                                      const std::vector<cv::Point2f>& uv_distorted, const CameraModel& camera,
                                      const std::vector<Vec3>& p_world, const std::vector<Mat3>& P_points,
                                      int* inliers) const;
-
-  // ORB descriptors of the corners at `uv_distorted` (rows of the returned matrix); corners too
-  // near the border are dropped from it.
-  cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv_distorted) const;
 
   RelocalisationOptions options_;
   cv::Ptr<cv::ORB> orb_;

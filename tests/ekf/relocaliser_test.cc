@@ -78,6 +78,31 @@ WallMap mapFromFirstView(const Relocaliser& relocaliser, const CameraModel& came
   return map;
 }
 
+// A corner's descriptor, computed over its neighbourhood, is the one ORB gives over the whole image,
+// near the border too; within ORB's border neither gives one.
+TEST(Relocaliser, DescribesACornerAsOverTheWholeImage) {
+  const CameraModel camera = pinhole();
+  const cv::Mat grey = renderWall(wallTexture(), camera, SE3::fromRotvec(Vec3(0.05, -0.1, 0.3), Vec3(0.02, 0, 0)));
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(grey, corners, 100, 0.01, 12);
+  for (float x : {31.6f, 32.0f, 32.5f, 40.3f, 606.0f, 606.6f, 607.2f})
+    for (float y : {31.6f, 32.0f, 47.2f, 240.5f, 446.0f, 446.6f, 447.4f}) corners.emplace_back(x, y);
+  int described = 0;
+  for (const cv::Point2f& c : corners) {
+    std::vector<cv::Point2f> one = {c};
+    const cv::Mat whole = relocaliser.describeAll(grey, &one);
+    const cv::Mat around = relocaliser.describe(grey, Vec2(c.x, c.y));
+    ASSERT_EQ(around.empty(), one.empty()) << c;
+    if (around.empty()) continue;
+    EXPECT_EQ(cv::norm(around, whole, cv::NORM_HAMMING), 0) << c;
+    ++described;
+  }
+  EXPECT_GE(described, 80);
+  EXPECT_TRUE(relocaliser.describe(grey, Vec2(-100, 50)).empty());
+  EXPECT_TRUE(relocaliser.describe(grey, Vec2(NAN, 50)).empty());
+}
+
 // A camera that moved 8 cm and turned (a 25-degree roll among it) since the map was made is found
 // again from the map alone, to the millimetres its pixel-grid corners allow.
 TEST(Relocaliser, FindsTheCameraAgainFromTheMap) {
