@@ -69,9 +69,14 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     // c^2 sum log(1 + r^2 / c^2) as the logarithm of products, one logarithm every few tracks
     // instead of one a track (log1p was a fifth of the refinement's time; tum_fr1_rpy's
     // trajectories are unchanged to the last digit).
-    double log_sum = 0, product = 1;
+    double log_sum = 0, product = 1;  // product <= 1e100 and a factor <= 1e100: no overflow
     for (Eigen::Index i = 0; i < r.size(); ++i) {
-      product *= 1 + r(i) * r(i) / c2;
+      const double factor = 1 + r(i) * r(i) / c2;
+      if (factor > 1e100) {
+        log_sum += std::log(factor);
+        continue;
+      }
+      product *= factor;
       if (product > 1e100) log_sum += std::log(product), product = 1;
     }
     return c2 * (log_sum + std::log(product));
