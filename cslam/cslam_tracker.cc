@@ -10,6 +10,7 @@
 #include "geometry/essential_eight_point.h"
 #include "geometry/pose_refinement.h"
 #include "geometry/triangulation.h"
+#include "geometry/two_view_motion.h"
 
 namespace slamcmp {
 
@@ -342,7 +343,7 @@ void CslamTracker::dropEpipolarOutliers(const SE3& T_world_camera, std::vector<V
   const PosedFrame& prev = history_.back();
   const SE3 T_cur_prev = T_world_camera.inverse() * prev.T_world_camera;
   if (T_cur_prev.t().norm() < 1e-9) return;  // no baseline: no epipolar line
-  const Mat3 E = skew(T_cur_prev.t().normalized()) * T_cur_prev.R();
+  const Mat3 E = essentialFromMotion(SE3(T_cur_prev.R(), T_cur_prev.t().normalized()));
   const double max2 = std::pow(options_.max_epipolar_error_px / focal_px_, 2);
   const auto& features = features_.features();
   std::vector<char> keep(features.size(), 1);

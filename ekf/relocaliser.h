@@ -22,7 +22,7 @@ class Relocaliser {
   // ORB's own keypoints are; empty within ORB's 31-pixel patch of the image border.
   cv::Mat describe(const cv::Mat& grey, const Vec2& uv) const;
   // ORB descriptors of the corners at `uv_distorted` (rows of the returned matrix); corners too
-  // near the border are dropped from it.
+  // near the border are dropped from it, and *uv_distorted keeps only the corners described.
   cv::Mat describeAll(const cv::Mat& grey, std::vector<cv::Point2f>* uv_distorted) const;
   // T_world_camera from the map points p_world, with P_points their world covariances (one a
   // point) and row k of `descriptors` describing point k, matched in `grey`: nullopt when too few

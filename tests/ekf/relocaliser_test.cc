@@ -88,19 +88,26 @@ TEST(Relocaliser, DescribesACornerAsOverTheWholeImage) {
   cv::goodFeaturesToTrack(grey, corners, 100, 0.01, 12);
   for (float x : {31.6f, 32.0f, 32.5f, 40.3f, 606.0f, 606.6f, 607.2f})
     for (float y : {31.6f, 32.0f, 47.2f, 240.5f, 446.0f, 446.6f, 447.4f}) corners.emplace_back(x, y);
+  std::vector<Vec2> uvs;
+  for (const cv::Point2f& c : corners) uvs.emplace_back(c.x, c.y);
+  // Between floats and at halves: the keypoint is the float nearest (as a cv::KeyPoint holds it).
+  for (const Vec2& uv : {Vec2(301.49999, 240.2), Vec2(301.4999999, 121.5), Vec2(607.99998, 200.3),
+                         Vec2(32.4999999, 100.5), Vec2(31.9999999, 447.5000001)})
+    uvs.push_back(uv);
   int described = 0;
-  for (const cv::Point2f& c : corners) {
-    std::vector<cv::Point2f> one = {c};
+  for (const Vec2& uv : uvs) {
+    std::vector<cv::Point2f> one = {cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()))};
     const cv::Mat whole = relocaliser.describeAll(grey, &one);
-    const cv::Mat around = relocaliser.describe(grey, Vec2(c.x, c.y));
-    ASSERT_EQ(around.empty(), one.empty()) << c;
+    const cv::Mat around = relocaliser.describe(grey, uv);
+    ASSERT_EQ(around.empty(), one.empty()) << uv.transpose();
     if (around.empty()) continue;
-    EXPECT_EQ(cv::norm(around, whole, cv::NORM_HAMMING), 0) << c;
+    EXPECT_EQ(cv::norm(around, whole, cv::NORM_HAMMING), 0) << uv.transpose();
     ++described;
   }
   EXPECT_GE(described, 80);
   EXPECT_TRUE(relocaliser.describe(grey, Vec2(-100, 50)).empty());
   EXPECT_TRUE(relocaliser.describe(grey, Vec2(NAN, 50)).empty());
+  EXPECT_TRUE(relocaliser.describe(grey, Vec2(1e300, 50)).empty());  // no integer overflow on the way
 }
 
 // A camera that moved 8 cm and turned (a 25-degree roll among it) since the map was made is found
