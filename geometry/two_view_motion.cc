@@ -1,5 +1,6 @@
 #include "geometry/two_view_motion.h"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -57,11 +58,9 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     const Vec3 e2 = t.cross(e1);
     return SE3(rotationFromRotvec(d.head<3>()) * T.R(), (t + d(3) * e1 + d(4) * e2).normalized());
   };
-  auto residuals = [&](const SE3& T) {
+  auto residuals = [&](const SE3& T, Eigen::VectorXd* r) {
     const Mat3 E = essentialFromMotion(T);
-    Eigen::VectorXd r(n);
-    for (int i = 0; i < n; ++i) r(i) = signedSampson(E, a[i], b[i]);
-    return r;
+    for (int i = 0; i < n; ++i) (*r)(i) = signedSampson(E, a[i], b[i]);
   };
   const double c2 = cauchy_scale * cauchy_scale;
   auto cost = [&](const Eigen::VectorXd& r) {
@@ -83,20 +82,21 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     return c2 * (log_sum + std::log1p(q));
   };
   SE3 T = T_b_a;
-  Eigen::VectorXd r = residuals(T);
+  Eigen::VectorXd r(n), rc(n);
+  residuals(T, &r);
   double r_cost = cost(r);
   double lambda = 1e-3;
+  Eigen::MatrixXd J(n, 5);
   for (int it = 0; it < iterations; ++it) {
-    Eigen::MatrixXd J(n, 5);
-    for (int k = 0; k < 5; ++k) {
-      Vec5 d = Vec5::Zero();
-      d(k) = 1e-7;
-      J.col(k) = (residuals(apply(T, d)) - r) / 1e-7;
-    }
+    // Forward differences, the five columns in one pass over the tracks.
+    std::array<Mat3, 5> E_step;
+    for (int k = 0; k < 5; ++k) E_step[k] = essentialFromMotion(apply(T, 1e-7 * Vec5::Unit(k)));
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < 5; ++k) J(i, k) = (signedSampson(E_step[k], a[i], b[i]) - r(i)) / 1e-7;
     Eigen::VectorXd rw = r;
     if (c2 > 0) {  // iteratively reweighted: the Cauchy loss's weight 1 / (1 + r^2 / c^2) at the current residuals
       const Eigen::VectorXd sqrt_w = (1 + r.array().square() / c2).rsqrt();
-      J = sqrt_w.asDiagonal() * J;
+      J.array().colwise() *= sqrt_w.array();
       rw = sqrt_w.cwiseProduct(r);
     }
     const Eigen::Matrix<double, 5, 5> H = J.transpose() * J;
@@ -107,12 +107,12 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
       A.diagonal() *= 1 + lambda;
       const Vec5 d = A.ldlt().solve(-g);
       const SE3 candidate = apply(T, d);
-      const Eigen::VectorXd rc = residuals(candidate);
+      residuals(candidate, &rc);
       const double rc_cost = cost(rc);
       if (rc_cost < r_cost) {
         improved = true;
         T = candidate;
-        r = rc;
+        r.swap(rc);
         r_cost = rc_cost;
         lambda *= 0.1;
       } else {
