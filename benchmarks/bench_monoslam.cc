@@ -12,7 +12,8 @@
 // prediction, every point's prediction and S, active search of 12 with warped templates, joint
 // compatibility and the batch update (measureFeatures), one core; the points lie on a textured
 // plane the camera sees. Not included: the rays' particle search and new-feature selection,
-// which do not depend on N.
+// which do not depend on N. A new feature's ORB descriptor (BM_NewFeatureDescriptor) is timed over
+// its neighbourhood, as the filter computes it, and over the whole image.
 // The board-free hand-held frame's two-view stage (issue 18; configs/monoslam_handheld.yaml), its
 // two costly parts, on tum_fr1_rpy (skipped where ../shared is absent): BM_TwoViewTracks, one
 // frame's pyramid, its tracks moved on from the last frame (Lucas-Kanade forward, checked backward)
@@ -46,6 +47,7 @@
 #include "ekf/motion_model.h"
 #include "ekf/patch_search.h"
 #include "ekf/patch_warp.h"
+#include "ekf/relocaliser.h"
 #include "geometry/multi_baseline_rotation.h"
 #include "monoslam_ekf/two_view_orientation.h"
 
@@ -254,6 +256,26 @@ void BM_ActiveSearchPerFeature(benchmark::State& bench) {
   }
 }
 BENCHMARK(BM_ActiveSearchPerFeature)->Arg(5)->Arg(10)->Arg(20)->Arg(40)->Arg(70)->ArgName("half_axis_px");
+
+// A new feature's ORB descriptor, kept for relocalisation: over the corner's neighbourhood
+// (Relocaliser::describe, whole_image 0) and over the whole 640x480 image (describeAll, 1), the
+// same bits.
+void BM_NewFeatureDescriptor(benchmark::State& bench) {
+  const bool whole_image = bench.range(0) != 0;
+  const cv::Mat grey = textureImage();
+  const Relocaliser relocaliser{RelocalisationOptions{}};
+  for (auto _ : bench) {
+    cv::Mat descriptor;
+    if (whole_image) {
+      std::vector<cv::Point2f> one = {cv::Point2f(320.3f, 240.6f)};
+      descriptor = relocaliser.describeAll(grey, &one);
+    } else {
+      descriptor = relocaliser.describe(grey, Vec2(320.3, 240.6));
+    }
+    benchmark::DoNotOptimize(descriptor.data);
+  }
+}
+BENCHMARK(BM_NewFeatureDescriptor)->Arg(0)->Arg(1)->ArgName("whole_image")->Unit(benchmark::kMicrosecond);
 
 // The filter's whole frame on a map of N points: the image is the texture on the plane z = 2 m
 // seen by the camera at the origin, each point a pixel of a grid over it with its patch from that
