@@ -349,7 +349,9 @@ const TumTwoView* tumOrSkip(benchmark::State& bench) {
   const TumTwoView* d = tumTwoView();
   if (!d) {
     bench.SkipWithError("../shared/datasets/tum_fr1_rpy is absent");
-  } else if (static_cast<int>(d->b->frames.size()) < kTumFrames) {
+    return nullptr;
+  }
+  if (static_cast<int>(d->b->frames.size()) < kTumFrames) {
     bench.SkipWithError(("../shared/datasets/tum_fr1_rpy: fewer than " + std::to_string(kTumFrames) + " frames").c_str());
     return nullptr;
   }

@@ -86,10 +86,10 @@ TEST(Relocaliser, DescribesACornerAsOverTheWholeImage) {
   const Relocaliser relocaliser{RelocalisationOptions{}};
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(grey, corners, 100, 0.01, 12);
-  for (float x : {31.6f, 32.0f, 32.5f, 40.3f, 606.0f, 606.6f, 607.2f})
-    for (float y : {31.6f, 32.0f, 47.2f, 240.5f, 446.0f, 446.6f, 447.4f}) corners.emplace_back(x, y);
   std::vector<Vec2> uvs;
   for (const cv::Point2f& c : corners) uvs.emplace_back(c.x, c.y);
+  for (double x : {31.6, 32.0, 32.5, 40.3, 606.0, 606.6, 607.2})
+    for (double y : {31.6, 32.0, 47.2, 240.5, 446.0, 446.6, 447.4}) uvs.emplace_back(x, y);
   // Between floats and at halves: the keypoint is the float nearest (as a cv::KeyPoint holds it).
   for (const Vec2& uv : {Vec2(301.49999, 240.2), Vec2(301.4999999, 121.5), Vec2(607.99998, 200.3),
                          Vec2(32.4999999, 100.5), Vec2(31.9999999, 447.5000001)})
