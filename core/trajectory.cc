@@ -110,7 +110,7 @@ std::vector<double> readKittiTimes(const std::string& path) {
 }  // namespace
 
 TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
-  if (lowerExtension(path) == "csv") return TrajectoryFormat::Euroc;
+  const bool csv = lowerExtension(path) == "csv";
   std::ifstream in = openTextFile(path);
   std::string line;
   std::vector<double> v;
@@ -118,6 +118,9 @@ TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
   while (std::getline(in, line)) {
     ++n;
     if (isCommentOrBlank(line)) continue;
+    // EuRoC's .csv is comma-separated; a TUM file saved as .csv (spaces) read as EuRoC would have
+    // its seconds taken for nanoseconds and pair poses far apart without a word.
+    if (csv && line.find(',') != std::string::npos) return TrajectoryFormat::Euroc;
     if (!parseNumbers(line, &v)) throw InputError(atLine(path, n), "a field is not a number");
     if (v.size() == 8) return TrajectoryFormat::Tum;
     if (v.size() == 12) return TrajectoryFormat::Kitti;

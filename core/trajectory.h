@@ -16,7 +16,8 @@ using Trajectory = std::vector<StampedPose>;
 
 enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
 
-// Auto: ".csv" is EuRoC; otherwise the field count of the first data line decides (8 TUM, 12 KITTI).
+// Auto: a ".csv" whose first data line is comma-separated is EuRoC; otherwise the field count of
+// the first data line decides (8 TUM, 12 KITTI).
 // KITTI files carry no time: `kitti_times_path` gives one per line, else frame indices are used.
 // Throws InputError naming the file and line for anything malformed: a wrong field count, a value
 // that is not a finite number, a quaternion or rotation far from unit, a timestamp that goes back

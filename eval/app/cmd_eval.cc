@@ -35,8 +35,8 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
   std::printf("%zu pose pairs (max-diff %g s), alignment %s, scale %.6f", e.pairs.size(),
               request.options.max_diff, e.align.c_str(), e.T_gt_estimate.scale);
   if (request.options.t_offset != 0.0) std::printf(", estimate's clock offset %+g s", request.options.t_offset);
-  std::printf("; RPE over %d frame%s, %zu pairs\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
-              e.rpe_trans.size());
+  std::printf("; RPE over %d frame%s, %zu pairs%s\n", e.rpe_delta, e.rpe_delta == 1 ? "" : "s",
+              e.rpe_trans.size(), e.rpe_all_pairs ? " (all pairs)" : "");
   std::printf("%-15s %11s %11s %11s %11s %11s %11s\n", "", "rmse", "mean", "median", "std", "min",
               "max");
   printRow("ATE trans (m)", e.ate_trans_stats);
@@ -96,6 +96,9 @@ void addEvalCommand(CLI::App& app) {
                   "seconds added to the estimate's timestamps before association, as evo's --t_offset "
                   "and TUM's associate.py --offset (default 0)");
   cmd->add_option("--delta", request->options.delta, "RPE step in matched poses (default 1)");
+  cmd->add_flag("--all-pairs", request->options.all_pairs,
+                "RPE over every pair of matched poses --delta apart, overlapping (evo_rpe --all_pairs); by "
+                "default only pairs 0, delta, 2 delta, ... (evo_rpe's default)");
   cmd->add_flag("--json", request->json, "print one JSON object instead of a table");
   cmd->callback([request] {
     const bool has_map = !request->map_path.empty();

@@ -70,18 +70,19 @@ const char* unitPair(double factor) {  // the usual reading of a factor between 
 }  // namespace
 
 PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estimate,
-                          double max_diff) {
+                          double max_diff, double estimate_offset) {
   const std::vector<double> t_gt = timestampsInOrder(groundtruth, "ground truth");
-  const std::vector<double> t_est = timestampsInOrder(estimate, "estimate");
+  std::vector<double> t_est = timestampsInOrder(estimate, "estimate");
   PosePairs pairs;
   if (t_gt.empty() || t_est.empty())
     throw InputError("", "nothing to associate: a trajectory holds no pose");
 
-  // evo searches the shorter trajectory's stamps in the longer one's; on equal length the
-  // second (estimate) is the shorter.
+  // evo searches the shorter trajectory's stamps in the longer one's, shifted by the offset (on
+  // equal length the second, the estimate, is the shorter).
   const bool estimate_longer = t_est.size() > t_gt.size();
   const std::vector<double>& t_short = estimate_longer ? t_gt : t_est;
-  const std::vector<double>& t_long = estimate_longer ? t_est : t_gt;
+  std::vector<double> t_long = estimate_longer ? t_est : t_gt;
+  for (double& t : t_long) t += estimate_longer ? estimate_offset : -estimate_offset;
   std::vector<size_t>& index_short = estimate_longer ? pairs.groundtruth : pairs.estimate;
   std::vector<size_t>& index_long = estimate_longer ? pairs.estimate : pairs.groundtruth;
   for (size_t i = 0; i < t_short.size(); ++i) {
@@ -91,6 +92,7 @@ PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estim
       index_long.push_back(j);
     }
   }
+  for (double& t : t_est) t += estimate_offset;  // the messages' times
   // Pairs found by chance across a unit mismatch (s against ms both start near 0) or none at all:
   // say why, with the factor, before an alignment or an RPE complains of too few pairs.
   if (2 * pairs.size() < t_short.size()) {

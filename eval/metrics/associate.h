@@ -1,6 +1,7 @@
 #pragma once
 // Pairs the poses of two trajectories by timestamp, exactly as evo's sync.associate_trajectories
-// (nearest_time, no offset) does, so that the pairs and hence every metric agree with evo_ape.
+// does (nearest time, its offset_2 included), so that the pairs and hence every metric agree with
+// evo_ape.
 #include <cstddef>
 #include <vector>
 
@@ -29,7 +30,11 @@ struct PosePairs {
 // shorter trajectory's poses pair up and the two files' times differ by a factor 1e3, 1e6 or 1e9
 // (one in s, the other in ms, us or ns: the message gives the factor) or do not overlap at all
 // (the message gives by how much); or when no pair is found (both time ranges, the usual causes).
+// estimate_offset (s) is added to the estimate's clock; as evo does, it is added to the longer
+// trajectory's times (subtracted from the ground truth's when that is longer), so that a pair
+// exactly max_diff apart is kept or dropped as evo keeps or drops it. The messages quote the
+// estimate's times with the offset added.
 PosePairs associateByTime(const Trajectory& groundtruth, const Trajectory& estimate,
-                          double max_diff);
+                          double max_diff, double estimate_offset = 0.0);
 
 }  // namespace slamcmp

@@ -43,12 +43,11 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   TrajectoryEvaluation out;
   out.align = options.align;
   out.rpe_delta = options.delta;
+  out.rpe_all_pairs = options.all_pairs;
   // As evo's associate_trajectories(offset_2) and TUM's associate.py --offset: a constant clock
   // offset of the estimate (a camera stamped on arrival, not exposure).
-  Trajectory shifted = estimate;
-  for (StampedPose& pose : shifted) pose.timestamp += options.t_offset;
   try {
-    out.pairs = associateByTime(groundtruth, shifted, options.max_diff);
+    out.pairs = associateByTime(groundtruth, estimate, options.max_diff, options.t_offset);
   } catch (const InputError& e) {  // the times it quotes are the shifted ones: say so
     if (options.t_offset == 0.0) throw;
     std::ostringstream offset;
@@ -94,13 +93,15 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   out.ate_trans_stats = computeStatistics(out.ate_trans);
   out.ate_rot_deg_stats = computeStatistics(out.ate_rot_deg);
 
-  // evo's filter_pairs_by_index, consecutive pairs: ids 0, delta, 2 delta, ... < n.
+  // evo's filter_pairs_by_index: consecutive pairs, ids 0, delta, 2 delta, ... < n; or all pairs
+  // (i, i + delta).
   const size_t delta = static_cast<size_t>(options.delta);
+  const size_t step = options.all_pairs ? 1 : delta;
   if (n <= delta)
     throw InputError("--delta", "RPE needs more than " + std::to_string(delta) +
                                     " matched poses, got " + std::to_string(n));
   std::vector<Vec3> rpe_offsets;
-  for (size_t i = 0; i + delta < n; i += delta) {
+  for (size_t i = 0; i + delta < n; i += step) {
     const size_t j = i + delta;
     const SE3 gt_motion = T_world_gt[i].inverse() * T_world_gt[j];
     const SE3 est_motion = T_world_est[i].inverse() * T_world_est[j];
@@ -126,6 +127,7 @@ nlohmann::json evaluationToJson(const TrajectoryEvaluation& e, const EvalOptions
                         {"rot_deg", statisticsToJson(e.ate_rot_deg_stats)},
                         {"trans_axis_rmse", axesToJson(e.ate_axis_rmse)}};
   nlohmann::json rpe = {{"delta_frames", e.rpe_delta},
+                        {"all_pairs", e.rpe_all_pairs},
                         {"pairs", e.rpe_trans.size()},
                         {"trans", statisticsToJson(e.rpe_trans_stats)},
                         {"rot_deg", statisticsToJson(e.rpe_rot_deg_stats)},

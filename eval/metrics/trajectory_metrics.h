@@ -23,6 +23,7 @@ struct EvalOptions {
   double max_diff = 0.01;      // s, largest time difference of an associated pose pair
   double t_offset = 0.0;       // s, added to the estimate's timestamps before association (evo's --t_offset)
   int delta = 1;               // RPE: frames (matched poses) between the two poses of a pair
+  bool all_pairs = false;      // RPE over every pair (i, i + delta), not only i = 0, delta, 2 delta, ...
 
   template <class V>
   void visit(V& v) {
@@ -30,6 +31,7 @@ struct EvalOptions {
     v("max_diff", max_diff, "s, largest time difference of an associated pose pair");
     v("t_offset", t_offset, "s, added to the estimate's timestamps before association");
     v("delta", delta, "RPE step in matched poses");
+    v("all_pairs", all_pairs, "RPE over every pair delta apart, overlapping (evo_rpe --all_pairs)");
   }
   void check() const;  // throws InputError naming the option
 };
@@ -42,9 +44,10 @@ struct TrajectoryEvaluation {
   std::vector<double> ate_trans, ate_rot_deg;
   Vec3 ate_axis_rmse = Vec3::Zero();  // m, rms of t_est - t_gt along x, y, z
   Statistics ate_trans_stats, ate_rot_deg_stats;
-  // Per pair (i, i + delta), i = 0, delta, 2 delta, ... over the matched poses: translation norm
-  // (m) and angle (degrees) of E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j).
+  // Per pair (i, i + delta), i = 0, delta, 2 delta, ... over the matched poses (every i with
+  // all_pairs): translation norm (m) and angle (degrees) of E = (gt_i^-1 gt_j)^-1 (est_i^-1 est_j).
   int rpe_delta = 1;
+  bool rpe_all_pairs = false;
   std::vector<double> rpe_trans, rpe_rot_deg;
   Vec3 rpe_axis_rmse = Vec3::Zero();  // m, rms of E's translation along x, y, z
   Statistics rpe_trans_stats, rpe_rot_deg_stats;
@@ -61,7 +64,7 @@ struct TrajectoryEvaluation {
 TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Trajectory& estimate,
                                         const EvalOptions& options);
 
-// SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, trans,
+// SPEC section 4's object: matched, align, scale, ate {trans, rot_deg}, rpe {delta_frames, all_pairs, trans,
 // rot_deg}, each statistic block rmse, mean, median, std, min, max; drift when it has segments
 // (else no_drift, why not); plus max_diff, t_offset, ate.trans_axis_rmse, rpe.pairs and rpe.trans_axis_rmse.
 nlohmann::json evaluationToJson(const TrajectoryEvaluation& evaluation, const EvalOptions& options);

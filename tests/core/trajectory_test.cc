@@ -222,6 +222,22 @@ TEST(Trajectory, RepeatedTimestampsAreKeptInOrder) {
   EXPECT_EQ(t[2].T_world_camera.t().x(), 1.0);
 }
 
+// A TUM file saved as .csv (spaces, not EuRoC's commas) is read as TUM: read as EuRoC its seconds
+// were taken for nanoseconds, and poses seconds apart paired within any --max-diff.
+TEST(Trajectory, ACsvIsEurocOnlyWhenCommaSeparated) {
+  test::TempDir dir;
+  const std::string tum_csv = dir.file("tum.csv");
+  test::writeText(tum_csv, "# timestamp tx ty tz qx qy qz qw\n105.95 1 2 3 0 0 0 1\n106.05 1 2 3 0 0 0 1\n");
+  EXPECT_EQ(detectTrajectoryFormat(tum_csv), TrajectoryFormat::Tum);
+  const Trajectory t = readTrajectory(tum_csv);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].timestamp, 105.95);
+  const std::string euroc = dir.file("gt.csv");
+  test::writeText(euroc, "#timestamp,p_x,p_y,p_z,q_w,q_x,q_y,q_z\n1403715572212143183,1,2,3,1,0,0,0\n");
+  EXPECT_EQ(detectTrajectoryFormat(euroc), TrajectoryFormat::Euroc);
+  EXPECT_EQ(readTrajectory(euroc).front().timestamp, 1403715572212143183.0 / 1e9);
+}
+
 // Seconds since 1970 are about 1.7e9; nanoseconds (EuRoC's unit) in a TUM file are refused, saying so.
 TEST(Trajectory, NanosecondsInATumFileAreRefusedSayingSo) {
   test::TempDir dir;

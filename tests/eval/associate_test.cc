@@ -40,6 +40,22 @@ TEST(Associate, PosesBeyondMaxDiffAreDropped) {
   EXPECT_EQ(associateByTime(gt, est, 0.05).size(), 4u);
 }
 
+// evo adds its offset_2 to the longer trajectory's times (subtracts it from the ground truth's
+// when that is the longer), and a pair exactly max_diff apart is kept or dropped by that rounding:
+// here evo_ape keeps the first two pairs. Adding the offset to the (shorter) estimate instead
+// kept only the fourth.
+TEST(Associate, AnOffsetIsAppliedAsEvoAppliesIt) {
+  const Trajectory gt = atTimes({1.011, 1.111, 1.211, 1.311, 1.411, 1.511});
+  const Trajectory est = atTimes({1.637, 1.737, 1.837, 1.937, 2.037});
+  PosePairs pairs = associateByTime(gt, est, 0.01, -0.636);
+  EXPECT_EQ(pairs.groundtruth, (std::vector<size_t>{0, 1}));
+  EXPECT_EQ(pairs.estimate, (std::vector<size_t>{0, 1}));
+  // The estimate longer: the offset moves the estimate's times.
+  pairs = associateByTime(atTimes({0.0, 1.0}), atTimes({0.3, 0.5, 1.3, 1.5}), 0.01, -0.3);
+  EXPECT_EQ(pairs.groundtruth, (std::vector<size_t>{0, 1}));
+  EXPECT_EQ(pairs.estimate, (std::vector<size_t>{0, 2}));
+}
+
 // evo takes the shorter trajectory's poses one by one (the estimate's on equal length) and the
 // nearest pose of the longer one; the earlier of two equally near, and the same pose twice if
 // it is the nearest twice.

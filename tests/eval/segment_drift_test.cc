@@ -17,6 +17,8 @@ std::vector<SE3> straightLine(int n, double step) {
 
 TEST(SegmentDrift, LengthsAreTheDevkitsOnLongPathsAndTenthsOnShortOnes) {
   EXPECT_EQ(driftSegmentLengths(2000), (std::vector<double>{100, 200, 300, 400, 500, 600, 700, 800}));
+  // KITTI's drive 04 is 394 m: the devkit's lengths still (only 100..300 m find segments).
+  EXPECT_EQ(driftSegmentLengths(394), driftSegmentLengths(2000));
   const std::vector<double> room = driftSegmentLengths(1.5);
   ASSERT_EQ(room.size(), 8u);
   for (int k = 0; k < 8; ++k) EXPECT_NEAR(room[k], 0.15 * (k + 1), 1e-12);
@@ -45,6 +47,25 @@ TEST(SegmentDrift, ScaleErrorOnAKittiLengthDrive) {
   EXPECT_NEAR(drift->rot_deg_per_m, 0.0, 1e-9);
   ASSERT_EQ(drift->lengths.size(), 8u);
   EXPECT_EQ(drift->lengths.front().segments, 90);  // first + 101 <= 1000: 0..890
+
+  // A drive as short as KITTI's 03 and 04 (455 m): the devkit's lengths that fit, 100..400 m.
+  const std::vector<SE3> short_gt = straightLine(456, 1.0);
+  std::vector<SE3> short_est;
+  for (const SE3& T : short_gt) short_est.push_back(SE3(Mat3::Identity(), 1.01 * T.t()));
+  const auto short_drift = segmentDrift(short_gt, short_est, pathLength(short_gt));
+  ASSERT_TRUE(short_drift);
+  EXPECT_TRUE(short_drift->kitti_lengths);
+  ASSERT_EQ(short_drift->lengths.size(), 4u);
+  EXPECT_EQ(short_drift->lengths.back().length_m, 400.0);
+  sum = 0;
+  segments = 0;
+  for (int len = 100; len <= 400; len += 100)
+    for (int first = 0; first + len + 1 <= 455; first += 10) {
+      sum += 0.01 * (len + 1) / len;
+      ++segments;
+    }
+  EXPECT_EQ(short_drift->segments, segments);
+  EXPECT_NEAR(short_drift->trans_percent, 100.0 * sum / segments, 1e-9);
 }
 
 // A yaw drift of 0.01 rad per metre: the rotation error of every segment is its length's worth.

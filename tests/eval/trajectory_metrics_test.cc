@@ -156,6 +156,19 @@ TEST(TrajectoryMetrics, RpeByHandOnFourPoses) {
   ASSERT_EQ(e2.rpe_trans.size(), 1u);
   EXPECT_NEAR(e2.rpe_trans[0], 0.1, 1e-15);
   EXPECT_NEAR(e2.rpe_rot_deg[0], 90.0, 1e-12);
+
+  // evo_rpe --all_pairs: (0,2) as above and (1,3): gt_1^-1 gt_3 = (I, (2, 0, 0)), est_1^-1 est_3 =
+  // (I, (2, 0, 0)): no error.
+  EvalOptions all = withAlign("none", 2);
+  all.all_pairs = true;
+  const TrajectoryEvaluation e3 = evaluateTrajectory(gt, est, all);
+  ASSERT_EQ(e3.rpe_trans.size(), 2u);
+  EXPECT_NEAR(e3.rpe_trans[0], 0.1, 1e-15);
+  EXPECT_NEAR(e3.rpe_trans[1], 0.0, 1e-15);
+  EXPECT_NEAR(e3.rpe_rot_deg[1], 0.0, 1e-12);
+  EXPECT_EQ(evaluationToJson(e3, all)["rpe"]["all_pairs"], true);
+  all.delta = 1;  // with delta 1 every pair is a consecutive one
+  EXPECT_EQ(evaluateTrajectory(gt, est, all).rpe_trans, e.rpe_trans);
 }
 
 TEST(TrajectoryMetrics, TooFewPairsAreRefused) {
