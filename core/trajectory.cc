@@ -46,6 +46,16 @@ void checkPlausibleSeconds(double seconds, const std::string& where) {
 
 namespace {
 
+// Farther than any trajectory in metres (Earth-centred coordinates are under 1e7 m): beyond, the
+// squared errors of ATE and RPE overflow to inf and their statistics to NaN.
+void checkPlausiblePosition(const Vec3& p, const std::string& where) {
+  constexpr double kMaxMetres = 1e9;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(p[k]) > kMaxMetres)
+      throw InputError(where, formatString("position %c %g is not plausible as metres (beyond %g m)", "xyz"[k], p[k],
+                                           kMaxMetres));
+}
+
 bool isCommentOrBlank(const std::string& line) {
   for (char c : line) {
     if (c == '#' || c == '%') return true;
@@ -186,6 +196,7 @@ Trajectory readTrajectory(const std::string& path, TrajectoryFormat format,
         break;
     }
     checkPlausibleSeconds(p.timestamp, where);
+    checkPlausiblePosition(p.T_world_camera.t(), where);
     out.push_back(p);
     checkIncreasing(out, where);
   });

@@ -1,9 +1,11 @@
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "core/camera.h"
 #include "core/chessboard.h"
+#include "core/error.h"
 #include "core/sequence.h"
 #include "core/target.h"
 #include "core/self_calibration.h"
@@ -28,6 +30,15 @@ void addCalibrateCommand(CLI::App& app) {
       ->check(CLI::IsMember(SubpixelCornerOptions::kMethods))
       ->capture_default_str();
   cmd->callback([args] {
+    // --out names the camera file to write: an existing file that is not one (the target, rgb.txt,
+    // an image) would be replaced by it, and the sequence broken.
+    if (std::filesystem::exists(args->out)) {
+      try {
+        readCameraYaml(args->out);
+      } catch (const std::exception&) {  // InputError; OpenCV's parser on a binary file
+        throw InputError("--out", args->out + " exists and is not a camera file: calibrate would overwrite it");
+      }
+    }
     SequenceOpenOptions open;
     open.target_path = args->target;
     open.allow_symmetric_target = true;  // intrinsics do not depend on the board's orientation

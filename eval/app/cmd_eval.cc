@@ -108,6 +108,9 @@ void addEvalCommand(CLI::App& app) {
     if (has_map) {
       const std::vector<MapPoint> map = readMapPly(request->map_path);
       map_evaluation = evaluateMap(map, readSceneYaml(request->scene_path));
+      if (map_evaluation->stats.distance.count == 0)  // its statistics would be NaN
+        throw InputError(request->map_path, map.empty() ? "holds no map point to score"
+                                                        : "holds only known points (sigma 0), none estimated to score");
     }
     if (request->groundtruth_path.empty()) {
       if (request->json) {
@@ -122,8 +125,16 @@ void addEvalCommand(CLI::App& app) {
     const TrajectoryFormat estimate_format = detectTrajectoryFormat(request->estimate_path);
     const Trajectory groundtruth = readTrajectory(request->groundtruth_path, groundtruth_format);
     const Trajectory estimate = readTrajectory(request->estimate_path, estimate_format);
-    // KITTI files carry no time: their poses pair by index, which a file cut short or with frames
-    // dropped would shift silently. evo refuses them unless both have as many poses.
+    // KITTI files carry no time: their poses are numbered 0, 1, 2, ..., which against a timed file
+    // pair a few poses by chance. Two KITTI files pair by index, which a file cut short or with
+    // frames dropped would shift silently: evo refuses them unless both have as many poses.
+    if ((groundtruth_format == TrajectoryFormat::Kitti) != (estimate_format == TrajectoryFormat::Kitti)) {
+      const bool estimate_kitti = estimate_format == TrajectoryFormat::Kitti;
+      throw InputError(estimate_kitti ? request->estimate_path : request->groundtruth_path,
+                       "is a KITTI file (12 fields a line, no time) and " +
+                           (estimate_kitti ? request->groundtruth_path : request->estimate_path) +
+                           " is not: KITTI poses pair only with another KITTI file's, by index");
+    }
     if (groundtruth_format == TrajectoryFormat::Kitti && estimate_format == TrajectoryFormat::Kitti &&
         groundtruth.size() != estimate.size())
       throw InputError(request->estimate_path + " against " + request->groundtruth_path,

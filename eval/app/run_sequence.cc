@@ -7,6 +7,8 @@
 #include <iostream>
 #include <memory>
 #include <set>
+#include <string>
+#include <thread>
 
 #include <opencv2/core/utility.hpp>
 
@@ -93,7 +95,11 @@ std::string defaultRunDir(const std::string& sequence_name, const std::string& b
 nlohmann::json runSequence(const RunRequest& request) {
   // Not "the sequence has no frames", which is what an empty run would say at its end.
   if (request.max_frames == 0) throw InputError("--max-frames 0", "nothing to run");
-  if (request.opencv_threads < 1) throw InputError("--threads", "must be at least 1");
+  // Beyond the machine's hardware threads OpenCV's TBB pool only warns (and crashed past 65536).
+  const int hardware_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (request.opencv_threads < 1 || request.opencv_threads > hardware_threads)
+    throw InputError("--threads", "must be in [1, " + std::to_string(hardware_threads) + "] (this machine's hardware threads), got " +
+                                      std::to_string(request.opencv_threads));
   const OpenCvThreads opencv_threads(request.opencv_threads);
   if (request.show) requireDisplay();
   SequenceOpenOptions open_options;

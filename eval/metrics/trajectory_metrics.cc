@@ -98,8 +98,8 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   const size_t delta = static_cast<size_t>(options.delta);
   const size_t step = options.all_pairs ? 1 : delta;
   if (n <= delta)
-    throw InputError("--delta", "RPE needs more than " + std::to_string(delta) +
-                                    " matched poses, got " + std::to_string(n));
+    throw InputError("", "RPE needs at least " + std::to_string(delta + 1) + " matched poses (pairs " +
+                             std::to_string(delta) + " apart, --delta), got " + std::to_string(n));
   std::vector<Vec3> rpe_offsets;
   for (size_t i = 0; i + delta < n; i += step) {
     const size_t j = i + delta;

@@ -204,7 +204,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadTrajectory{"huge_negative_timestamp", "traj.txt", "-2e300 0 0 0 0 0 0 1\n", "traj.txt:1", ""},
         BadTrajectory{"euroc_huge_timestamp", "gt.csv", "100,0,0,0,1,0,0,0\n1e30,0,0,0,1,0,0,0\n", "gt.csv:2", ""},
         BadTrajectory{"kitti_huge_time", "kitti.txt", std::string(kKittiLine) + kKittiLine, "times.txt:2",
-                      "0.0\n1e300\n"}),
+                      "0.0\n1e300\n"},
+        // Positions whose squares overflow made ATE inf and its statistics NaN, exit 0.
+        BadTrajectory{"huge_position", "traj.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 1e200 0 0 0 0 1\n", "traj.txt:2", ""},
+        BadTrajectory{"kitti_huge_position", "kitti.txt", std::string(kKittiLine) + "1 0 0 -2e9 0 1 0 0 0 0 1 2\n",
+                      "kitti.txt:2", ""}),
     [](const auto& info) { return info.param.name; });
 
 // Published ground truth repeats a timestamp now and then (TUM fr2_desk, evo's V1_02 estimate):

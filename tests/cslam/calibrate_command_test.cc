@@ -1,6 +1,7 @@
 // `slamcmp calibrate` on the published calibration image sets (issue 3 targets).
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -72,6 +73,26 @@ TEST(CalibrateCommand, NoBoardIsBadInput) {
   test::TempDir dir;
   EXPECT_EQ(runCalibrate(shared + "/calibration/opencv_left", {7, 4, 0.025}, dir), 2);
   EXPECT_FALSE(std::ifstream(dir.file("camera.yaml")).good());
+}
+
+// --out names the camera file to write: an existing file that is not a camera file (here the
+// sequence's own target.yaml and rgb.txt) is refused before anything is read, and left as it was;
+// the sequence's camera.yaml is replaced.
+TEST(CalibrateCommand, OutNeverOverwritesAnInput) {
+  test::TempDir dir;
+  const std::string seq = dir.file("seq");
+  ASSERT_EQ(test::runSlamcmp("synth --preset board_partial --frames 70 --supersample 1 --out " + seq).exit_code, 0);
+  for (const std::string input : {"target.yaml", "rgb.txt"}) {
+    const std::string path = seq + "/" + input;
+    const std::vector<std::string> before = test::readLines(path);
+    const auto r = test::runSlamcmp("calibrate --sequence " + seq + " --target " + seq + "/target.yaml --out " + path);
+    EXPECT_EQ(r.exit_code, 2) << input;
+    EXPECT_NE(r.err.find("--out: " + path + " exists and is not a camera file"), std::string::npos) << r.err;
+    EXPECT_EQ(test::readLines(path), before) << input;
+  }
+  const auto r = test::runSlamcmp("calibrate --sequence " + seq + " --target " + seq + "/target.yaml --out " + seq +
+                                  "/camera.yaml");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 // The phone video's board has 8x6 inner corners: symmetric (its origin is ambiguous), which does

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -207,6 +208,51 @@ TEST(CmdEval, MapTableAndBothPairsAtOnce) {
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_NEAR(j["ate"]["trans"]["rmse"].get<double>(), 0.1, 1e-9);
   EXPECT_EQ(j["map"]["points"], 3);
+}
+
+// A map with no estimated point has no statistics (they were printed as nan, exit 0).
+TEST(CmdEval, AMapWithoutPointsIsBadInput) {
+  TempDir tmp;
+  writeMapAndScene(tmp);
+  writeText(tmp.file("empty.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+            "end_header\n");
+  const auto r = runSlamcmp("eval --map " + tmp.file("empty.ply") + " --scene " + tmp.file("scene.yaml"));
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find(tmp.file("empty.ply") + ": holds no map point to score"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+}
+
+// A KITTI file's poses are numbered 0, 1, 2, ...: against a ground truth timed 0.1 s apart a few
+// paired by chance (3 of 30), exit 0. Refused, naming the KITTI file.
+TEST(CmdEval, KittiAgainstATimedFileIsBadInput) {
+  TempDir tmp;
+  std::string gt, kitti;
+  for (int i = 0; i < 30; ++i) {
+    gt += std::to_string(0.1 * i) + " " + std::to_string(i) + " 0 0 0 0 0 1\n";
+    kitti += "1 0 0 " + std::to_string(i) + " 0 1 0 0 0 0 1 0\n";
+  }
+  writeText(tmp.file("gt.txt"), gt);
+  writeText(tmp.file("kitti.txt"), kitti);
+  for (const auto& [g, e] : {std::pair{"gt.txt", "kitti.txt"}, std::pair{"kitti.txt", "gt.txt"}}) {
+    const auto r = runSlamcmp(std::string("eval --groundtruth ") + tmp.file(g) + " --estimate " + tmp.file(e));
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(tmp.file("kitti.txt") + ": is a KITTI file"), std::string::npos) << r.err;
+  }
+}
+
+// One matched pose leaves no RPE pair: the message says what RPE needs, without blaming an option
+// the user did not give.
+TEST(CmdEval, OnePoseSaysWhatRpeNeeds) {
+  TempDir tmp;
+  writePair(tmp, 1.0);
+  writeText(tmp.file("one.txt"), "10.0 0 0 0 0 0 0 1\n");
+  const auto r = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("one.txt"));
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.err.find("RPE needs at least 2 matched poses (pairs 1 apart, --delta), got 1"), std::string::npos)
+      << r.err;
 }
 
 TEST(CmdEval, HalfAPairIsBadUsage) {
