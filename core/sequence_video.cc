@@ -1,4 +1,5 @@
 // A video file, through the media plugin (OpenCV videoio); timestamps from its frame rate.
+#include <cctype>
 #include <cmath>
 
 #include "core/error.h"
@@ -48,6 +49,13 @@ class VideoFormat : public SequenceFormat {
   }
   Sequence open(const fs::path& path, const SequenceOpenOptions& /*options*/) const override {
     const std::string file = path.string();
+    // FFmpeg opens a text file too (its tty demuxer draws the text as 640x400 frames), and the
+    // camera file's size was then blamed.
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (const char* text : {".txt", ".csv", ".yaml", ".yml", ".json", ".md"})
+      if (extension == text)
+        throw InputError(file, "is a text file, not a video: for a TUM or EuRoC sequence give its folder");
     auto video = mediaPlugin(file).openVideo(file);
     if (!video) throw InputError(file, "is neither a sequence folder nor a video OpenCV can open");
     const double fps = video->fps();

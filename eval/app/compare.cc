@@ -73,15 +73,14 @@ std::vector<Method> parseMethods(const std::string& list) {
 
 namespace {
 
-// The run's last line in its log, the way `slamcmp run` said why it stopped ("" if none).
+// The run's last line in its log ("" if none): its result line, or its error ("slamcmp: ...").
 // InputError if the log is a folder (which would read as an empty log) or cannot be opened.
 std::string lastLogLine(const std::string& path) {
   std::ifstream in = openTextFile(path);
   std::string line, last;
   while (std::getline(in, line))
     if (!line.empty() && line.find('\r') == std::string::npos) last = line;
-  const std::string prefix = "slamcmp: ";
-  return last.compare(0, prefix.size(), prefix) == 0 ? last.substr(prefix.size()) : last;
+  return last;
 }
 
 // One planned run read back: finished (ok), interrupted (summary.json says so), failed (its log's
@@ -106,8 +105,16 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
   } else if (fs::exists(fs::path(dir) / planned.log, ec)) {
     r.status = "failed";
     try {
-      r.error = lastLogLine((fs::path(dir) / planned.log).string());
-      if (r.error.empty()) r.error = "no summary.json and nothing in its log (killed?)";
+      // A run that failed ended its log on its error ("slamcmp: ..."); one whose log ends otherwise
+      // (on its result line, its summary.json since removed) is said to lack its summary.
+      const std::string last = lastLogLine((fs::path(dir) / planned.log).string());
+      const std::string error_prefix = "slamcmp: ";
+      if (last.empty())
+        r.error = "no summary.json and nothing in its log (killed?)";
+      else if (last.compare(0, error_prefix.size(), error_prefix) == 0)
+        r.error = last.substr(error_prefix.size());
+      else
+        r.error = "no summary.json; its log ends: " + last;
     } catch (const InputError& e) {  // the log is a folder or unreadable: that is the run's error
       r.error = e.what();
     }
@@ -171,6 +178,11 @@ void sayCompareReport(const std::string& dir, const std::string& report, const s
       std::cerr << "slamcmp: " << (std::filesystem::path(dir) / run.dir).string() << ": failed: " << run.error << "\n";
       ++failed;
     }
+  // Runs still to come (a cluster's queue) are no error, but a report short of them is said so
+  // where scripts look.
+  if (failed == 0 && !unfinished.empty())
+    std::cerr << "slamcmp: warning: " << report << ": " << unfinished.size()
+              << " run(s) not finished (not run or interrupted); the report marks them\n";
   if (failed > 0)
     throw InputError(report, std::to_string(failed) + " run(s) failed (the lines above); the report marks them");
 }

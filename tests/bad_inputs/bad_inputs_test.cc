@@ -870,6 +870,15 @@ std::vector<BadCase> cases() {
             writeText(seq + "/rgb.txt", "1000000000 rgb/0.png\n1100000000 rgb/1.png\n1200000000 rgb/2.png\n");
           },
           {"seq/clip.avi", "imply 1e-08 fps", "nanoseconds (1e+09 times seconds)"}, "--overlay {seq}/clip.avi"),
+      // The sequence's list given for the sequence: FFmpeg opened it as a 640x400 video (its tty
+      // demuxer) and the camera file was blamed for the size.
+      BadCase{"ListFileForTheSequence",
+              [](const TempDir& tmp) {
+                const std::string seq = tmp.file("seq");
+                writeSequence(seq);
+                return Invocation{"run --backend cslam --sequence " + seq + "/rgb.txt --out " + tmp.file("out"),
+                                  {seq + "/rgb.txt: is a text file, not a video", "give its folder"}};
+              }},
       runCase(
           "OverlayOnMillisecondTimestamps",
           [](const std::string& seq) { writeText(seq + "/rgb.txt", "0 rgb/0.png\n100 rgb/1.png\n200 rgb/2.png\n"); },

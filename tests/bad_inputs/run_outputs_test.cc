@@ -199,6 +199,22 @@ TEST(RunOutputs, CollectSaysARunLogIsAFolder) {
       << collected.err;
 }
 
+// --collect of a run whose log ends on its success line but whose summary.json is gone: the
+// error says summary.json is missing (it quoted the success line alone, as if that were the failure).
+TEST(RunOutputs, CollectSaysASummaryIsMissing) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 3, "good");
+  const std::string dir = tmp.file("c");
+  ASSERT_EQ(test::runSlamcmp("compare --jobs 1 --sequence " + seq + " --backends cslam --out " + dir).exit_code, 0);
+  fs::remove(dir + "/runs/good-cslam/summary.json");
+  const auto collected = test::runSlamcmp("compare --collect " + dir);
+  EXPECT_EQ(collected.exit_code, 2) << collected.err;
+  EXPECT_EQ(collected.err.rfind("slamcmp: " + dir + "/runs/good-cslam: failed: no summary.json; its log ends: cslam: 3/3",
+                                0),
+            0u)
+      << collected.err;
+}
+
 // A compare where a run failed says so, a line for each, and exits 2, as --collect of it does.
 TEST(RunOutputs, CompareAndCollectSayWhichRunsFailed) {
   TempDir tmp;

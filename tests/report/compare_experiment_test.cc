@@ -360,7 +360,12 @@ TEST(CompareExperiment, PlanThenCollectIsByteIdenticalToACompare) {
   EXPECT_FALSE(fs::exists(tmp.file("planned/report.md")));  // nothing ran
 
   // Collected before any run finished: every run marked, nothing invented.
-  EXPECT_EQ(test::runSlamcmp("compare --collect " + tmp.file("planned")).exit_code, 0);
+  const auto early = test::runSlamcmp("compare --collect " + tmp.file("planned"));
+  EXPECT_EQ(early.exit_code, 0) << early.err;
+  EXPECT_NE(early.err.find("warning: " + fs::absolute(tmp.file("planned/report.md")).lexically_normal().string() +
+                           ": 2 run(s) not finished"),
+            std::string::npos)
+      << early.err;
   EXPECT_NE(readFile(tmp.file("planned/report.md")).find("`runs/tv1-monoslam`: not run"), std::string::npos);
 
   // The same run outputs (copied) give the same tables, byte for byte.
