@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/options.h"
 #include "core/progress.h"
 #include "core/target.h"
@@ -25,7 +26,11 @@ namespace fs = std::filesystem;
 void SynthOptions::check() const {
   findMotionPreset(preset);
   if (seed < 0) throw InputError("--seed", "must be >= 0, got " + std::to_string(seed));
-  if (frames < 0) throw InputError("--frames", "must be >= 0, got " + std::to_string(frames));
+  // A bound on what one command may write: 100000 frames are about 15 GB of PNG.
+  constexpr int kMaxFrames = 100000;
+  if (frames < 0 || frames > kMaxFrames)
+    throw InputError("--frames", "must be in [1, " + std::to_string(kMaxFrames) + "] (or left out for the preset's), got " +
+                                     std::to_string(frames));
   if (!(noise >= 0) || !std::isfinite(noise)) throw InputError("--noise", "must be a finite number >= 0");
   if (!(blur >= 0) || !(blur <= 100)) throw InputError("--blur", "must be in [0, 100] pixels");
   if (!(lens_blur >= 0) || !(lens_blur <= 5)) throw InputError("--lens-blur", "must be in [0, 5] pixels");
@@ -94,7 +99,16 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   std::string rgb_list =
       "# synthetic sequence: timestamp image (slamcmp synth --preset " + options.preset + ")\n";
   Progress progress("synth " + options.preset, frames);
+  const auto writeLists = [&] {
+    writeTextFile(out / "rgb.txt", rgb_list);
+    writeTumTrajectory((out / "groundtruth.txt").string(), groundtruth);
+  };
   for (int i = 0; i < frames; ++i) {
+    if (interruptRequested()) {  // what is rendered stays a sequence of its own
+      if (!groundtruth.empty()) writeLists();
+      throw Interrupted("interrupted: " + out.string() + " holds the first " + std::to_string(i) + " of " +
+                        std::to_string(frames) + " frames");
+    }
     const double t = i / preset.fps;
     const cv::Mat image = renderer.renderFrame(pose_at, t, 1.0 / preset.fps, effects,
                                                static_cast<std::uint64_t>(options.seed), i);
@@ -114,8 +128,7 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
     progress.update(i + 1);
   }
   progress.finish();
-  writeTextFile(out / "rgb.txt", rgb_list);
-  writeTumTrajectory((out / "groundtruth.txt").string(), groundtruth);
+  writeLists();
 }
 
 }  // namespace slamcmp

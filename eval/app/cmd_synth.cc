@@ -2,9 +2,11 @@
 #include <iostream>
 #include <memory>
 
+#include "core/error.h"
 #include "core/format_string.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/commands.h"
+#include "eval/app/run_sequence.h"
 
 namespace slamcmp {
 
@@ -22,8 +24,9 @@ void addSynthCommand(CLI::App& app) {
   cmd->add_option("--preset", options->preset, "camera motion (640x480, 10 fps unless said):" + presets)->required();
   cmd->add_option("--out", *out_dir, "output folder (created; existing files are overwritten)")->check(nonEmptyPath())->required();
   cmd->add_option("--seed", options->seed, "seed of textures, jitter and noise (default 1)");
-  cmd->add_option("--frames", options->frames,
-                  "number of frames (default: the preset's; beyond it the motion repeats)");
+  auto* frames_option = cmd->add_option("--frames", options->frames,
+                                        "number of frames, at most 100000 (default: the preset's; beyond it the "
+                                        "motion repeats)");
   cmd->add_option("--noise", options->noise, "Gaussian sensor noise sigma, grey levels (default 0)");
   cmd->add_option("--blur", options->blur,
                   "motion blur: streak length at the image centre, pixels (default 0)");
@@ -36,7 +39,12 @@ void addSynthCommand(CLI::App& app) {
                   "time (default 0: a global shutter)");
   cmd->add_option("--supersample", options->supersample,
                   "anti-aliasing samples per pixel along each axis (default 3)");
-  cmd->callback([options, out_dir] {
+  cmd->callback([options, out_dir, frames_option] {
+    // 0 stands for the preset's length inside; given, it is a mistake, not a request for 337 frames.
+    if (frames_option->count() > 0 && options->frames < 1)
+      throw InputError("--frames", "must be at least 1 (leave it out for the preset's), got " +
+                                       std::to_string(options->frames));
+    installInterruptHandler();  // Ctrl-C or SIGTERM: the frames rendered are listed, exit 130
     const auto start = std::chrono::steady_clock::now();
     writeSyntheticSequence(*options, *out_dir);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -657,6 +657,16 @@ std::vector<BadCase> cases() {
       emptyOptionCase("RunOverlayEmpty", "run --backend cslam --sequence {seq} --out {tmp}/o --overlay ''",
                       "--overlay"),
       emptyOptionCase("SynthOutEmpty", "synth --preset tv1 --frames 1 --out ''", "--out"),
+      // --frames 0 rendered the preset's 337 frames; a count past any disk was rendered until it filled.
+      BadCase{"SynthZeroFrames",
+              [](const TempDir& tmp) {
+                return Invocation{"synth --preset tv1 --frames 0 --out " + tmp.file("s"), {"--frames", "at least 1"}};
+              }},
+      BadCase{"SynthTooManyFrames",
+              [](const TempDir& tmp) {
+                return Invocation{"synth --preset tv1 --frames 2000000000 --out " + tmp.file("s"),
+                                  {"--frames", "must be in [1, 100000]"}};
+              }},
       emptyOptionCase("CalibrateSequenceEmpty",
                       "calibrate --sequence '' --target {seq}/target.yaml --out {tmp}/c.yaml", "--sequence"),
       emptyOptionCase("CalibrateTargetEmpty", "calibrate --sequence {seq} --target '' --out {tmp}/c.yaml",

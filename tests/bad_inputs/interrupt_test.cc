@@ -131,6 +131,41 @@ TEST(Interrupt, CtrlCLeavesValidOutputsForTheFramesDone) { expectValidOutputsAft
 TEST(Interrupt, SigtermLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGTERM); }
 TEST(Interrupt, SighupLeavesValidOutputsForTheFramesDone) { expectValidOutputsAfter(SIGHUP); }
 
+// `synth` stopped by SIGTERM: the frames rendered are a sequence of their own (rgb.txt and
+// groundtruth.txt list them), and it exits 130. It was killed with 143, leaving images with no list.
+TEST(Interrupt, SynthListsTheFramesItRendered) {
+  const char* bin = std::getenv("SLAMCMP_BIN");
+  ASSERT_NE(bin, nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string out = tmp.file("seq");
+  const pid_t pid = spawn({bin, "synth", "--preset", "tv1", "--frames", "5000", "--supersample", "1", "--out", out},
+                          tmp.file("stdout"), tmp.file("stderr"));
+  ASSERT_GT(pid, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+  const auto images = [&] {
+    std::error_code ec;
+    const auto n = std::distance(std::filesystem::directory_iterator(out + "/rgb", ec),
+                                 std::filesystem::directory_iterator());
+    return ec ? 0 : static_cast<int>(n);
+  };
+  while (images() < 4 && std::chrono::steady_clock::now() < deadline && waitpid(pid, nullptr, WNOHANG) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_GE(images(), 4) << "synth rendered nothing";
+  kill(pid, SIGTERM);
+  const int code = waitExit(pid, std::chrono::seconds(60));
+  std::stringstream stream;
+  stream << std::ifstream(tmp.file("stderr")).rdbuf();
+  const std::string err = stream.str();
+  ASSERT_EQ(code, 130) << err;
+  EXPECT_NE(err.find("slamcmp: interrupted: " + out + " holds the first "), std::string::npos) << err;
+  const Trajectory groundtruth = readTrajectory(out + "/groundtruth.txt");
+  EXPECT_GE(groundtruth.size(), 3u);
+  EXPECT_LT(groundtruth.size(), 5000u);
+  EXPECT_EQ(countLines(out + "/rgb.txt"), static_cast<int>(groundtruth.size()) + 1);  // and its comment line
+  const auto run = test::runSlamcmp("run --backend cslam --sequence " + out + " --out " + tmp.file("run"));
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+}
+
 // Ctrl-C while rgb.txt is still being read (here a pipe the test feeds line by line; a list of a
 // million lines on a slow disk alike): the run says it was interrupted, at the line it reached,
 // never that the sequence has no frames, and exits 130 as an interrupted run does, not 2 (bad input).
