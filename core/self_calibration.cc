@@ -1,5 +1,6 @@
 #include "core/self_calibration.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
@@ -7,6 +8,7 @@
 #include "core/chessboard.h"
 #include "core/distortion_fold.h"
 #include "core/error.h"
+#include "core/format_string.h"
 #include "core/progress.h"
 
 namespace slamcmp {
@@ -17,8 +19,28 @@ void SelfCalibrationOptions::check() const {
   if (max_frames < 1) throw OptionError("max_frames", "must be >= 1");
   if (!(min_view_change >= 0)) throw OptionError("min_view_change", "must be >= 0");
   if (!(max_rms_px > 0)) throw OptionError("max_rms_px", "must be positive");
+  if (!(min_view_spread_deg >= 0 && min_view_spread_deg < 90))
+    throw OptionError("min_view_spread_deg", "must be in [0, 90)");
   if (distortion_terms != 4 && distortion_terms != 5) throw OptionError("distortion_terms", "must be 4 or 5");
 }
+
+namespace {
+
+// The largest angle between two views' board normals (the third column of each rotation).
+double largestNormalAngleDeg(const std::vector<cv::Mat>& rvecs) {
+  std::vector<cv::Vec3d> normals;
+  for (const cv::Mat& rvec : rvecs) {
+    cv::Matx33d R;
+    cv::Rodrigues(rvec, R);
+    normals.emplace_back(R(0, 2), R(1, 2), R(2, 2));
+  }
+  double smallest_cos = 1;
+  for (size_t a = 0; a < normals.size(); ++a)
+    for (size_t b = a + 1; b < normals.size(); ++b) smallest_cos = std::min(smallest_cos, normals[a].dot(normals[b]));
+  return std::acos(std::max(-1.0, std::min(1.0, smallest_cos))) * 180.0 / M_PI;
+}
+
+}  // namespace
 
 SelfCalibrator::SelfCalibrator(const ChessboardTarget& target, cv::Size image_size,
                                const SelfCalibrationOptions& options)
@@ -72,6 +94,12 @@ std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not)
     if (!std::isfinite(rms) || rms > options_.max_rms_px)
       return refuse("their calibration's reprojection error, " + std::to_string(rms) + " px, is over max_rms_px " +
                     std::to_string(options_.max_rms_px) + (first_fold.empty() ? "" : " once it does not fold"));
+    const double spread = largestNormalAngleDeg(rvecs);
+    if (spread < options_.min_view_spread_deg)
+      return refuse("the board faces the camera within " + formatString("%.1f", spread) +
+                    " degrees of one orientation in all of them (min_view_spread_deg " +
+                    formatString("%g", options_.min_view_spread_deg) +
+                    "): parallel views do not determine the focal length; tilt the board between views");
     CalibrationResult result;
     result.camera = CameraModel::fromOpenCV(K, dist.reshape(1, 1).colRange(0, options_.distortion_terms), image_size_);
     const std::string fold = distortionFold(result.camera);

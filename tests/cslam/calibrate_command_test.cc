@@ -81,7 +81,7 @@ TEST(CalibrateCommand, NoBoardIsBadInput) {
 TEST(CalibrateCommand, OutNeverOverwritesAnInput) {
   test::TempDir dir;
   const std::string seq = dir.file("seq");
-  ASSERT_EQ(test::runSlamcmp("synth --preset board_partial --frames 70 --supersample 1 --out " + seq).exit_code, 0);
+  ASSERT_EQ(test::runSlamcmp("synth --preset handheld_rpy --frames 120 --supersample 1 --out " + seq).exit_code, 0);
   for (const std::string input : {"target.yaml", "rgb.txt"}) {
     const std::string path = seq + "/" + input;
     const std::vector<std::string> before = test::readLines(path);
