@@ -62,8 +62,9 @@ bool SelfCalibrator::addView(const std::vector<cv::Point2f>& uv) {
   return true;
 }
 
-std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not) const {
-  const auto refuse = [why_not](const std::string& why) {
+std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not) {
+  const auto refuse = [this, why_not](const std::string& why) {
+    last_refusal_ = why;
     if (why_not) *why_not = why;
     return std::nullopt;
   };
@@ -112,6 +113,11 @@ std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not)
     if (first_fold.empty()) first_fold = fold;
   }
   return refuse("their calibration was not used, even with k2 and k3 fixed at 0: " + first_fold);
+}
+
+std::string SelfCalibrator::whyNotCalibrated() const {
+  if (!last_refusal_.empty()) return std::to_string(numViews()) + " distinct board views: " + last_refusal_;
+  return "only " + std::to_string(numViews()) + " distinct board views (need " + std::to_string(options_.min_views) + ")";
 }
 
 CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,

@@ -60,14 +60,18 @@ class SelfCalibrator {
   bool full() const { return numViews() >= options_.max_views; }
   // Zhang's calibration on the kept views, refitted with fewer radial terms where the distortion
   // folds over the image (core/distortion_fold.h); empty with fewer than min_views, an error over
-  // max_rms_px or a fold even with k1 alone, and then `why_not` (if given) says which.
-  std::optional<CalibrationResult> calibrate(std::string* why_not = nullptr) const;
+  // max_rms_px, parallel views or a fold even with k1 alone, and then `why_not` (if given) says which.
+  std::optional<CalibrationResult> calibrate(std::string* why_not = nullptr);
+  // Why no calibration came of the views so far, for a run that ends uncalibrated: the last
+  // calibration's refusal, or too few views if none was tried.
+  std::string whyNotCalibrated() const;
 
  private:
   ChessboardTarget target_;
   cv::Size image_size_;
   SelfCalibrationOptions options_;
   std::vector<std::vector<cv::Point2f>> views_;
+  std::string last_refusal_;
 };
 
 // `slamcmp calibrate`: a full board search in every frame of `frames` (its corners refined as

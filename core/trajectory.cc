@@ -46,13 +46,14 @@ void checkPlausibleSeconds(double seconds, const std::string& where) {
 
 namespace {
 
-// Farther than any trajectory in metres (Earth-centred coordinates are under 1e7 m): beyond, the
-// squared errors of ATE and RPE overflow to inf and their statistics to NaN.
+// Beyond 1e100 the squared errors of ATE and RPE, summed over a trajectory, overflow to inf and
+// their statistics to NaN (1e200 printed NaN with exit 0). Any real trajectory, in metres or a
+// scale-free run's units, is far inside.
 void checkPlausiblePosition(const Vec3& p, const std::string& where) {
-  constexpr double kMaxMetres = 1e9;
+  constexpr double kMaxMetres = 1e100;
   for (int k = 0; k < 3; ++k)
     if (std::abs(p[k]) > kMaxMetres)
-      throw InputError(where, formatString("position %c %g is not plausible as metres (beyond %g m)", "xyz"[k], p[k],
+      throw InputError(where, formatString("position %c %g is not plausible (beyond %g: its square overflows)", "xyz"[k], p[k],
                                            kMaxMetres));
 }
 

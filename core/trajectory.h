@@ -22,7 +22,7 @@ enum class TrajectoryFormat { Auto, Tum, Euroc, Kitti };
 // Throws InputError naming the file and line for anything malformed: a wrong field count, a value
 // that is not a finite number, a quaternion or rotation far from unit, a timestamp that goes back
 // in time (a repeated one is kept, as evo keeps it), one that cannot be seconds
-// (checkPlausibleSeconds), a position beyond 1e9 m, or a file without a single pose.
+// (checkPlausibleSeconds), a position beyond 1e100 (its squares overflow), or a file without a single pose.
 Trajectory readTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::Auto,
                           const std::string& kitti_times_path = "");
 // The pose of a TUM file that must hold exactly one (--init manual:FILE): InputError as

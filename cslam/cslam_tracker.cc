@@ -88,9 +88,8 @@ nlohmann::json CslamTracker::options() const {
 
 void CslamTracker::finish() {
   if (!camera_)
-    throw InputError("", "no camera file and only " + std::to_string(calibrator_->numViews()) +
-                             " distinct board views to self-calibrate from (need " +
-                             std::to_string(options_.calibration.min_views) + "); give --camera");
+    throw InputError("", "no camera file, and self-calibration failed: " + calibrator_->whyNotCalibrated() +
+                             "; give --camera");
   if (posed_frames_ == 0)  // every mode needs the board once: it sets the world frame and the scale
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }

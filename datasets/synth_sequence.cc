@@ -82,13 +82,19 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   const Scene scene = buildRoomScene(static_cast<std::uint64_t>(options.seed));
   const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
   const MotionPreset& preset = findMotionPreset(options.preset);
+  // An earlier sequence's lists go first: an interruption must not leave them beside this one's files.
+  for (const char* list : {"rgb.txt", "groundtruth.txt"}) fs::remove(out / list, ec);
   writeCameraYaml((out / "camera.yaml").string(), camera);
   writeTargetYaml((out / "target.yaml").string(), scene.target);
   writeSceneYaml((out / "scene.yaml").string(), scene);
-  std::ostringstream info;
-  info << "# slamcmp synth: a synthetic sequence, " << preset.description << ", " << preset.fps << " fps\n"
-       << describeOptions(options);
-  writeTextFile(out / "info.yaml", info.str());
+  // info.yaml records the options, frames included: compare --trials renders each trial from it.
+  const auto writeInfo = [&](const SynthOptions& written) {
+    std::ostringstream info;
+    info << "# slamcmp synth: a synthetic sequence, " << preset.description << ", " << preset.fps << " fps\n"
+         << describeOptions(written);
+    writeTextFile(out / "info.yaml", info.str());
+  };
+  writeInfo(options);
 
   const SceneRenderer renderer(camera, scene, options.supersample);
   const FrameEffects effects{options.lens_blur, options.noise, options.blur, options.illumination,
@@ -104,8 +110,13 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
     writeTumTrajectory((out / "groundtruth.txt").string(), groundtruth);
   };
   for (int i = 0; i < frames; ++i) {
-    if (interruptRequested()) {  // what is rendered stays a sequence of its own
-      if (!groundtruth.empty()) writeLists();
+    if (interruptRequested()) {  // what is rendered stays a sequence of its own, and says how long
+      if (groundtruth.empty())
+        throw Interrupted("interrupted before the first frame: " + out.string() + " holds no sequence");
+      SynthOptions rendered = options;
+      rendered.frames = i;
+      writeInfo(rendered);
+      writeLists();
       throw Interrupted("interrupted: " + out.string() + " holds the first " + std::to_string(i) + " of " +
                         std::to_string(frames) + " frames");
     }

@@ -32,7 +32,8 @@ void addCalibrateCommand(CLI::App& app) {
   cmd->callback([args] {
     // --out names the camera file to write: an existing file that is not one (the target, rgb.txt,
     // an image) would be replaced by it, and the sequence broken.
-    if (std::filesystem::exists(args->out)) {
+    std::error_code unreadable;  // a path that cannot be looked at: the write below says so
+    if (std::filesystem::exists(args->out, unreadable)) {
       try {
         readCameraYaml(args->out);
       } catch (const std::exception&) {  // InputError; OpenCV's parser on a binary file

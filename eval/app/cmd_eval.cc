@@ -57,6 +57,10 @@ void printTable(const TrajectoryEvaluation& e, const EvalRequest& request) {
 
 void printMapTable(const MapErrorStats& s, const EvalRequest& request) {
   std::printf("map %s: %d points against %s\n", request.map_path.c_str(), s.distance.count, request.scene_path.c_str());
+  if (s.distance.count == 0) {  // only known points (an EKF's board corners): no statistics
+    std::printf("no estimated point to score (%d known)\n", s.known);
+    return;
+  }
   std::printf("%-15s %11s %11s %11s %11s\n", "", "rmse", "median", "max", "within 1cm");
   std::printf("%-15s %11.6f %11.6f %11.6f %11.6f\n", "map error (m)", s.distance.rmse, s.distance.median,
               s.distance.max, s.within_1cm);
@@ -108,9 +112,7 @@ void addEvalCommand(CLI::App& app) {
     if (has_map) {
       const std::vector<MapPoint> map = readMapPly(request->map_path);
       map_evaluation = evaluateMap(map, readSceneYaml(request->scene_path));
-      if (map_evaluation->stats.distance.count == 0)  // its statistics would be NaN
-        throw InputError(request->map_path, map.empty() ? "holds no map point to score"
-                                                        : "holds only known points (sigma 0), none estimated to score");
+      if (map.empty()) throw InputError(request->map_path, "holds no map point to score");
     }
     if (request->groundtruth_path.empty()) {
       if (request->json) {

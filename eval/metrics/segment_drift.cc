@@ -8,9 +8,11 @@ namespace slamcmp {
 namespace {
 
 constexpr int kStepSize = 10;  // the devkit's step_size: a segment starts at every 10th pose
-// The devkit's lengths once its shortest fits: on KITTI's shorter drives (03: 561 m, 04: 394 m)
-// the lengths no segment fits add nothing, as in the devkit, and the figures are its own.
-constexpr double kShortestKittiLengthM = 100.0;
+// The devkit's lengths on paths of KITTI's size: its shorter drives (03: 561 m, 04: 394 m) get
+// them too, and the lengths no segment fits add nothing, as in the devkit. Below 300 m a path
+// would get its 100 m segments from a few starts only (EuRoC's MH_03, 131 m: from its first 31 m),
+// so tenths of the path, as for a room.
+constexpr double kKittiPathM = 300.0;
 
 // The devkit's rotationError: acos(max(min(0.5 (trace - 1), 1), -1)).
 double rotationErrorRad(const Mat3& R) {
@@ -22,7 +24,7 @@ double rotationErrorRad(const Mat3& R) {
 
 std::vector<double> driftSegmentLengths(double path_m) {
   std::vector<double> lengths;
-  const bool kitti = path_m > kShortestKittiLengthM;
+  const bool kitti = path_m > kKittiPathM;
   for (int k = 1; k <= 8; ++k) lengths.push_back(kitti ? 100.0 * k : 0.1 * k * path_m);
   return lengths;
 }
@@ -59,7 +61,7 @@ std::optional<SegmentDrift> segmentDrift(const std::vector<SE3>& T_world_gt, con
 
   SegmentDrift out;
   out.path_m = path_m;
-  out.kitti_lengths = path_m > kShortestKittiLengthM;
+  out.kitti_lengths = path_m > kKittiPathM;
   double trans_sum = 0, rot_sum = 0;
   for (const double length : driftSegmentLengths(path_m)) {
     DriftAtLength at;

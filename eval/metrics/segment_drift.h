@@ -5,10 +5,10 @@
 // the nominal length (%) and rotation angle over it (deg/m), averaged over every segment of every
 // length.
 //
-// Segment lengths: the devkit's 100, 200, ..., 800 m on paths longer than 100 m (those no segment
-// fits add nothing, as in the devkit), else a ladder of tenths of the path (0.1, 0.2, ..., 0.8 of
-// its length), so that a room-scale run of a metre gets segments of 0.1..0.8 m from as many starts
-// as a KITTI drive gets 100..800 m ones.
+// Segment lengths: the devkit's 100, 200, ..., 800 m on paths longer than 300 m (KITTI's drives;
+// those no segment fits add nothing, as in the devkit), else a ladder of tenths of the path (0.1,
+// 0.2, ..., 0.8 of its length), so that a room-scale run of a metre gets segments of 0.1..0.8 m
+// from as many starts as a KITTI drive gets 100..800 m ones.
 #include <optional>
 #include <string>
 #include <vector>

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -880,6 +881,21 @@ std::vector<BadCase> cases() {
             writeText(seq + "/rgb.txt", "1000000000 rgb/0.png\n1100000000 rgb/1.png\n1200000000 rgb/2.png\n");
           },
           {"seq/clip.avi", "imply 1e-08 fps", "nanoseconds (1e+09 times seconds)"}, "--overlay {seq}/clip.avi"),
+      // No camera file, and a board seen square on in every frame (board_partial slides in front of
+      // it): the views do not determine the focal length, and the run says so (it self-calibrated
+      // from such views at fx 950 for 525, and said "too few views" when refused).
+      BadCase{"SelfCalibrationFromParallelViews",
+              [](const TempDir& tmp) {
+                const std::string seq = tmp.file("seq");
+                EXPECT_EQ(test::runSlamcmp("synth --preset board_partial --frames 80 --supersample 1 --out " + seq)
+                              .exit_code,
+                          0);
+                std::filesystem::remove(seq + "/camera.yaml");
+                return Invocation{"run --backend cslam --sequence " + seq + " --out " + tmp.file("out") +
+                                      " --set cslam.calibration.max_frames=70",
+                                  {"no camera file, and self-calibration failed: 12 distinct board views",
+                                   "parallel views do not determine the focal length"}};
+              }},
       // The sequence's list given for the sequence: FFmpeg opened it as a 640x400 video (its tty
       // demuxer) and the camera file was blamed for the size.
       BadCase{"ListFileForTheSequence",

@@ -162,6 +162,12 @@ TEST(Interrupt, SynthListsTheFramesItRendered) {
   EXPECT_GE(groundtruth.size(), 3u);
   EXPECT_LT(groundtruth.size(), 5000u);
   EXPECT_EQ(countLines(out + "/rgb.txt"), static_cast<int>(groundtruth.size()) + 1);  // and its comment line
+  // info.yaml says as much (compare --trials renders each trial from it).
+  const std::vector<std::string> info = test::readLines(out + "/info.yaml");
+  EXPECT_NE(std::find(info.begin(), info.end(),
+                      "frames: " + std::to_string(groundtruth.size()) +
+                          "  # 0: the preset's own length; more repeats its motion"),
+            info.end());
   const auto run = test::runSlamcmp("run --backend cslam --sequence " + out + " --out " + tmp.file("run"));
   EXPECT_EQ(run.exit_code, 0) << run.err;
 }

@@ -207,7 +207,7 @@ INSTANTIATE_TEST_SUITE_P(
                       "0.0\n1e300\n"},
         // Positions whose squares overflow made ATE inf and its statistics NaN, exit 0.
         BadTrajectory{"huge_position", "traj.txt", "1.0 0 0 0 0 0 0 1\n2.0 0 1e200 0 0 0 0 1\n", "traj.txt:2", ""},
-        BadTrajectory{"kitti_huge_position", "kitti.txt", std::string(kKittiLine) + "1 0 0 -2e9 0 1 0 0 0 0 1 2\n",
+        BadTrajectory{"kitti_huge_position", "kitti.txt", std::string(kKittiLine) + "1 0 0 -2e101 0 1 0 0 0 0 1 2\n",
                       "kitti.txt:2", ""}),
     [](const auto& info) { return info.param.name; });
 

@@ -17,8 +17,10 @@ std::vector<SE3> straightLine(int n, double step) {
 
 TEST(SegmentDrift, LengthsAreTheDevkitsOnLongPathsAndTenthsOnShortOnes) {
   EXPECT_EQ(driftSegmentLengths(2000), (std::vector<double>{100, 200, 300, 400, 500, 600, 700, 800}));
-  // KITTI's drive 04 is 394 m: the devkit's lengths still (only 100..300 m find segments).
+  // KITTI's drive 04 is 394 m: the devkit's lengths still (only 100..300 m find segments); EuRoC's
+  // MH_03 (131 m) would get 100 m segments from its first 31 m only: tenths.
   EXPECT_EQ(driftSegmentLengths(394), driftSegmentLengths(2000));
+  EXPECT_NEAR(driftSegmentLengths(131).front(), 13.1, 1e-12);
   const std::vector<double> room = driftSegmentLengths(1.5);
   ASSERT_EQ(room.size(), 8u);
   for (int k = 0; k < 8; ++k) EXPECT_NEAR(room[k], 0.15 * (k + 1), 1e-12);
