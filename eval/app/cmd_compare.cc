@@ -5,6 +5,7 @@
 #include "eval/app/backends.h"
 #include "eval/app/commands.h"
 #include "eval/app/compare.h"
+#include "eval/app/compare_plan.h"
 #include "eval/app/run_sequence.h"
 
 namespace slamcmp {
@@ -39,7 +40,7 @@ void addCompareCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
   cmd->add_option("--set", options->sets,
-                  "sweep one option: SECTION.KEY=V1,V2,... (the YAML's path, e.g. cslam.features.max_features=50,100,200); "
+                  "sweep one option: SECTION.KEY=V1,V2,... (the YAML's path, e.g. cslam.features.max_features=100,150,200); "
                   "several make a grid of one back-end's values (repeatable)");
   cmd->add_option("--config", options->configs,
                   "an option file as `run --config` reads it (one section per back-end): each back-end with a "
@@ -72,9 +73,10 @@ void addCompareCommand(CLI::App& app) {
     if (!plan_dir->empty()) {
       options->out_dir = *plan_dir;
       const size_t runs = planCompare(*options);
-      std::cout << "plan: " << runs << " runs in " << *plan_dir << "/jobs.txt; run them with `parallel < " << *plan_dir
-                << "/jobs.txt` or `sbatch " << *plan_dir << "/slurm.sbatch`, then `slamcmp compare --collect "
-                << *plan_dir << "`\n";
+      const std::string dir = shellQuoted(*plan_dir);
+      std::cout << "plan: " << runs << " runs in " << *plan_dir << "/jobs.txt; run them with `parallel < "
+                << shellQuoted(*plan_dir + "/jobs.txt") << "` or `sbatch " << shellQuoted(*plan_dir + "/slurm.sbatch")
+                << "`, then `slamcmp compare --collect " << dir << "`\n";
       return;
     }
     if (options->out_dir.empty()) throw InputError("compare", "give --out DIR (or --plan DIR, or --collect DIR)");

@@ -163,6 +163,7 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (runs.back().status != "ok") not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }
+  fs::remove_all(dir + "/figures", ec);  // an earlier collect's figures are redrawn, or gone
   fs::create_directories(dir + "/figures");
   if (unfinished) *unfinished = not_finished;
   return writeCompareReport(plan, seqs, runs, dir);

@@ -30,14 +30,6 @@ std::string selfExecutable() {
   return self.string();
 }
 
-std::string shellQuoted(const std::string& s) {
-  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%") ==
-                        std::string::npos)
-    return s;
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 struct Sweep {
   std::string key;                  // "cslam.features.max_features"
@@ -100,7 +92,7 @@ Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, co
   const auto eq = text.find('=');
   const auto dot = text.find('.');
   if (eq == std::string::npos || dot == std::string::npos || dot > eq)
-    throw InputError(where, "must be SECTION.KEY=V1,V2,..., e.g. cslam.features.max_features=50,100,200");
+    throw InputError(where, "must be SECTION.KEY=V1,V2,..., e.g. cslam.features.max_features=100,150,200");
   Sweep sweep{text.substr(0, eq), text.substr(0, dot), {}};
   const BackendRegistration& backend = findBackend(sweep.backend, where);
   if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) { return m.backend == backend.name; }))
@@ -147,6 +139,15 @@ std::string settingLabel(const std::vector<std::string>& sets) {
 }
 
 }  // namespace
+
+std::string shellQuoted(const std::string& s) {
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-+=./:,@%") ==
+                        std::string::npos)
+    return s;
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
 
 Plan makePlan(const CompareOptions& options) {
   if (options.sequences.empty()) throw InputError("--sequence", "give at least one sequence");
@@ -215,6 +216,10 @@ Plan makePlan(const CompareOptions& options) {
     synths.push_back(options.trials > 1 ? readSynthInfo(path) : std::nullopt);
 
   std::error_code ec;
+  // An earlier compare's folder (its plan.json): its runs, logs, trial renders and figures go, or
+  // the new report would sit beside the old experiment's figures and run folders.
+  if (fs::exists(dir / "plan.json", ec))
+    for (const char* sub : {"runs", "logs", "figures", "sequences"}) fs::remove_all(dir / sub, ec);
   for (const char* sub : {"runs", "logs", "figures"}) {
     fs::create_directories(dir / sub, ec);
     if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());
@@ -296,7 +301,8 @@ void writePlanFiles(const Plan& plan, const std::string& dir) {
          << "#SBATCH --array=1-" << plan.runs.size() << "\n"
          << "#SBATCH --ntasks=1\n"
          << "#SBATCH --cpus-per-task=1\n"
-         << "#SBATCH --output=" << (fs::path(dir) / "logs" / "slurm-%A_%a.out").string() << "\n"
+         // Slurm splits a directive at spaces unless the value is in double quotes.
+         << "#SBATCH --output=\"" << (fs::path(dir) / "logs" / "slurm-%A_%a.out").string() << "\"\n"
          << "line=$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" " << shellQuoted((fs::path(dir) / "jobs.txt").string()) << ")\n"
          << "exec /bin/sh -c \"$line\"\n";
   write("slurm.sbatch", sbatch.str());

@@ -18,6 +18,9 @@ Plan makePlan(const CompareOptions& options);
 // plan.json, jobs.txt and slurm.sbatch in `dir` (the plan's absolute folder).
 void writePlanFiles(const Plan& plan, const std::string& dir);
 
+// `s` as one word for sh: as it is when it holds only safe characters, else in single quotes.
+std::string shellQuoted(const std::string& s);
+
 // One line of jobs.txt: the run's environment, its command and its output into its log.
 std::string jobLine(const PlannedRun& run, const std::string& dir);
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -225,6 +226,7 @@ nlohmann::json runSequence(const RunRequest& request) {
     extra["after_loss"] = "one map at one scale: lost frames are posed again only once the map made while "
                           "the run was posed is found again (relocalised), never from a new map";
   }
+  std::optional<Similarity3> T_gt_scale_free;  // a scale-free run's Sim(3) alignment, for its map too
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
@@ -233,7 +235,10 @@ nlohmann::json runSequence(const RunRequest& request) {
         extra["ate"] = errors->json["ate"];
         extra["rpe"] = errors->json["rpe"];
         T_gt_estimate = errors->T_gt_estimate;
-        if (scale_free) extra["scale"] = T_gt_estimate.scale;
+        if (scale_free) {
+          extra["scale"] = T_gt_estimate.scale;
+          T_gt_scale_free = T_gt_estimate;
+        }
       }
       // Scored by what the true camera sees of the board: for a run whose world is the board's
       // (started from it), as the ground truth's must then be; not once no frame sees a corner.
@@ -253,9 +258,15 @@ nlohmann::json runSequence(const RunRequest& request) {
       std::cerr << seq.groundtruth_path << ": warning: the run cannot be scored against it: " << e.what() << "\n";
     }
   }
-  const std::vector<MapPoint> map = tracker->mapPoints();
-  writeMapPly(out_dir + "/map.ply", map);
-  if (scene) extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
+  writeMapPly(out_dir + "/map.ply", tracker->mapPoints());
+  // The map as written scored, as the trajectory is (compare --collect scores the same file and
+  // gets the same figures); a scale-free map through its trajectory's Sim(3), or not at all.
+  if (scene && (!scale_free || T_gt_scale_free)) {
+    std::vector<MapPoint> map = readMapPly(out_dir + "/map.ply");
+    if (T_gt_scale_free)
+      for (MapPoint& p : map) p.p_world = *T_gt_scale_free * p.p_world;
+    extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
+  }
   return recorder.writeSummary(extra);
 }
 

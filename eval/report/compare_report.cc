@@ -180,7 +180,7 @@ bool anyFinished(const std::vector<const RunResult*>& cell) {
 // Why a cell has no numbers: the first trial's reason.
 std::string failureText(const std::vector<const RunResult*>& cell) {
   for (const RunResult* r : cell)
-    if (r->status != "ok") return r->status + ": " + r->error;
+    if (r->status != "ok") return r->error.empty() ? r->status : r->status + ": " + r->error;
   return "";
 }
 
@@ -278,7 +278,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
       const auto cell = cellRuns(plan, runs, s, m);
       md << "| " << seqs[s].name << " | " << methods[m].label() << " | ";
       if (!anyFinished(cell)) {
-        md << failureText(cell) << " ||||||||||\n";
+        md << failureText(cell) << " |" << std::string(8, '|') << "\n";  // the other 8 of 11 columns empty
         continue;
       }
       // One trial: tracked/frames and its first lost frame; several: the posed share and the
@@ -317,9 +317,9 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
     md << "\n## Drift over path segments (KITTI odometry devkit)\n\n"
        << "From every 10th pose, the relative motion over a segment of the ground truth's path: translation error "
           "in % of the segment's length and rotation error in degrees per metre, averaged over every segment. "
-          "Segment lengths: the devkit's 100..800 m on paths over 800 m, else 0.1..0.8 of the path the run "
-          "covered (room-scale runs)."
-       << trialsNote(plan) << "\n\n"
+          "Segment lengths: the devkit's 100..800 m on paths over 300 m (KITTI's drives), else 0.1..0.8 of the "
+          "path the run covered (room-scale runs)."
+       << trialsNote(plan) << (plan.trials > 1 ? " Path and segments are the first finished trial's." : "") << "\n\n"
        << "| video | method | path [m] | segments | translation [%] | rotation [deg/m] |\n|---|---|---|---|---|---|\n";
     for (size_t s = 0; s < seqs.size(); ++s)
       for (size_t m = 0; m < methods.size(); ++m) {

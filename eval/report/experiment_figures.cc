@@ -58,7 +58,7 @@ Figure ateBoxplot(const Plan& plan, const std::vector<SequenceInfo>& seqs, const
       p.series.push_back(box);
       p.series.push_back(points);
     }
-    fig.panels.push_back(p);
+    if (!p.series.empty()) fig.panels.push_back(p);  // a sequence without ground truth has no ATE
   }
   return fig;
 }
@@ -88,11 +88,15 @@ Figure sweepFigure(const Plan& plan, const std::vector<SequenceInfo>& seqs, cons
         line.points = method.setting.empty();  // an unswept method: one point
       }
       PlotSeries& line = by_line[key];
-      line.x.push_back(meanOf(trialValues(plan, runs, s, m, "cpu_ms_median")));
-      line.y.push_back(meanOf(trialValues(plan, runs, s, m, "ate_trans_rmse_m")) * 1e3);
+      const double cpu_ms = meanOf(trialValues(plan, runs, s, m, "cpu_ms_median"));
+      const double ate_mm = meanOf(trialValues(plan, runs, s, m, "ate_trans_rmse_m")) * 1e3;
+      if (!std::isfinite(cpu_ms) || !std::isfinite(ate_mm)) continue;  // not run, or no ground truth
+      line.x.push_back(cpu_ms);
+      line.y.push_back(ate_mm);
       line.point_labels.push_back(method.setting.empty() ? "" : method.setting.substr(method.setting.rfind('.') + 1));
     }
     for (const std::string& key : order) {
+      if (by_line[key].x.empty()) continue;
       PlotSeries line = by_line[key], points = line;
       line.point_labels.clear();
       points.points = true;
@@ -101,7 +105,7 @@ Figure sweepFigure(const Plan& plan, const std::vector<SequenceInfo>& seqs, cons
       else p.series.push_back(line);
       p.series.push_back(points);
     }
-    fig.panels.push_back(p);
+    if (!p.series.empty()) fig.panels.push_back(p);
   }
   return fig;
 }

@@ -11,6 +11,9 @@ namespace slamcmp {
 std::string shadeColour(const std::string& colour, double t) {
   unsigned r = 0, g = 0, b = 0;
   if (colour.size() != 7 || std::sscanf(colour.c_str(), "#%02x%02x%02x", &r, &g, &b) != 3) return colour;
+  // A colour too dark to darken (monoslam's black) is lightened for every t, by 0.45 + 0.3 t: its
+  // variants then differ from it and from each other (darkened, they were all black).
+  if (std::max({r, g, b}) < 0x40) t = 0.45 + 0.3 * t;
   auto mix = [t](unsigned c) { return static_cast<unsigned>(t > 0 ? c + (255 - c) * t : c * (1 + t)); };
   char out[8];
   std::snprintf(out, sizeof out, "#%02x%02x%02x", mix(r), mix(g), mix(b));

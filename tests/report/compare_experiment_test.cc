@@ -210,6 +210,64 @@ TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
   }
 }
 
+// A sequence without ground truth (a real video) over trials and a sweep: no ATE to plot, and the
+// report is written without those figures (gnuplot was handed empty panels: exit 1, no report).
+// Compared again into the same folder with fewer runs, the earlier experiment's run folders,
+// trial renders and figures are gone.
+TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  for (const char* file : {"groundtruth.txt", "scene.yaml", "info.yaml"}) fs::remove(seq + "/" + file);
+  CompareOptions options = shortCompare(seq, "cslam", tmp.file("c"));
+  options.trials = 2;  // without info.yaml, each trial its back-end's seed
+  options.sets = {"cslam.features.max_features=100,200"};
+  const std::string report = runCompare(options);
+  EXPECT_TRUE(fs::exists(report));
+  EXPECT_FALSE(fs::exists(tmp.file("c/figures/ate_boxplot.png")));
+  EXPECT_FALSE(fs::exists(tmp.file("c/figures/sweep_ate_cpu.png")));
+  EXPECT_EQ(readResults(tmp.file("c/results.csv")).size(), 4u);
+
+  const std::string with_truth = renderTv1(tmp, 12);  // the same folder, ground truth back
+  ASSERT_EQ(with_truth, seq);
+  CompareOptions again = shortCompare(seq, "cslam", tmp.file("c"));
+  runCompare(again);
+  EXPECT_EQ(readResults(tmp.file("c/results.csv")).size(), 1u);
+  EXPECT_FALSE(fs::exists(tmp.file("c/runs/tv1-cslam-features.max_features=100-t1")));
+  EXPECT_FALSE(fs::exists(tmp.file("c/sequences")));
+  size_t runs = 0;
+  for (const auto& entry : fs::directory_iterator(tmp.file("c/runs"))) runs += entry.is_directory();
+  EXPECT_EQ(runs, 1u);
+}
+
+// A method whose every run failed: its accuracy row has as many cells as the header (it had one
+// more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
+TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  CompareOptions options = shortCompare(seq, "monoslam", tmp.file("c"));
+  options.sets = {"monoslam.search.source_size=41,1001"};  // 1001: the run fails on the image size
+  std::vector<UnfinishedRun> unfinished;
+  const std::string report = runCompare(options, &unfinished);
+  ASSERT_EQ(unfinished.size(), 1u);
+  const std::vector<std::string> lines = test::readLines(report);
+  const auto cells = [](const std::string& row) { return std::count(row.begin(), row.end(), '|'); };
+  const auto header = std::find_if(lines.begin(), lines.end(),
+                                   [](const std::string& l) { return l.rfind("| video | method | posed |", 0) == 0; });
+  ASSERT_NE(header, lines.end());
+  const auto failed = std::find_if(header, lines.end(), [](const std::string& l) { return l.find("failed") != std::string::npos; });
+  ASSERT_NE(failed, lines.end());
+  EXPECT_EQ(cells(*failed), cells(*header)) << *failed;
+
+  for (const auto& row : readResults(tmp.file("c/results.csv"))) {
+    if (row.at("status") != "ok") continue;
+    const nlohmann::json summary = nlohmann::json::parse(readFile(tmp.file("c/" + row.at("run") + "/summary.json")));
+    ASSERT_TRUE(summary.contains("map")) << row.at("run");
+    EXPECT_EQ(std::stod(row.at("map_median_m")), summary["map"]["median"].get<double>()) << row.at("run");
+  }
+}
+
 // Option files (--config) are settings of the back-ends they have a section for: hybrid runs with
 // its defaults (`defaults`) and with the file, labelled by its name, each run with exactly its
 // options (summary.json), a sweep applies to each; cslam, which the file does not name, runs once.

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -102,6 +104,24 @@ TEST(Plot, WritesAPng) {
   in.read(magic, 8);
   ASSERT_TRUE(in) << "no PNG written (is gnuplot installed?)";
   EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+}
+
+// A method's variants (its settings, its start) in shades of its colour, each its own: a colour
+// darkened towards black, or lightened towards white; black itself (monoslam's) lightened for every
+// shade, where darkening gave four of six variants the same black.
+TEST(Plot, ShadesOfOneColourDifferEvenFromBlack) {
+  EXPECT_EQ(shadeColour("#d62728", 0.0), "#d62728");
+  EXPECT_EQ(shadeColour("#d62728", 0.5), "#ea9393");
+  EXPECT_EQ(shadeColour("#d62728", -0.5), "#6b1314");
+  const std::vector<std::string> shades = {shadeColour("#000000", -0.45), shadeColour("#000000", 0.0),
+                                           shadeColour("#000000", 0.45)};
+  EXPECT_EQ(shades[0], "#505050");
+  EXPECT_EQ(shades[2], "#959595");
+  for (size_t a = 0; a < shades.size(); ++a) {
+    EXPECT_NE(shades[a], "#000000");
+    for (size_t b = 0; b < a; ++b) EXPECT_NE(shades[a], shades[b]);
+  }
+  EXPECT_EQ(shadeColour("red", 0.5), "red");  // a colour name as it is
 }
 
 }  // namespace
