@@ -49,6 +49,9 @@ std::string PoseReporting::weakness(int measured, double nis, int nis_dof, bool 
     lost_ = out.str();
     return lost_;
   }
+  // Nothing measured (a blank frame, a frame from elsewhere): the pose would be the motion model's
+  // alone. Lost this frame; unlike the rules above not until an anchor, as nothing moved the filter.
+  if (!anchored && measured == 0) return "nothing measured in this frame: the pose would be the motion model's";
   // A frame the board anchors is posed from it whatever one room feature did; its level still counts.
   lost_ = innovationJump(nis, nis_dof, !anchored);
   return lost_;

@@ -1,8 +1,8 @@
 #pragma once
 // Whether an EKF back-end reports this frame's pose or calls the frame lost (SPEC section 4: never
-// a made-up pose): a filter that has measured too little for several frames, whose camera
-// position has grown too uncertain, or whose matches jump far beyond the run's own innovation
-// level (a mismatch moved it), is extrapolating, not tracking. Its frames stay lost until
+// a made-up pose): a frame that measured nothing, a filter that has measured too little for several
+// frames, whose camera position has grown too uncertain, or whose matches jump far beyond the run's
+// own innovation level (a mismatch moved it), is extrapolating, not tracking. Its frames stay lost until
 // something absolute anchors it again (hybrid: the board's corners; monoslam: a restart from the
 // board, or a board-free map's relocalisation): new features mapped from a drifted pose agree
 // with it, and would shrink its covariance around the wrong place.

@@ -28,6 +28,8 @@ void BoardCornerMeasurementOptions::check() const {
     throw OptionError("max_predicted_search", "must be in [0, 0.5] squares (a corner one square off must stay out)");
   if (!(max_plane_error_px > 0)) throw OptionError("max_plane_error_px", "must be positive");
   if (min_corners < 4) throw OptionError("min_corners", "must be >= 4 (a homography needs four)");
+  if (!(min_corner_contrast >= 0 && min_corner_contrast <= 255))
+    throw OptionError("min_corner_contrast", "must be in [0, 255] grey levels");
   if (search_interval < 1) throw OptionError("search_interval", "must be >= 1");
   if (!(reanchor_position_sigma >= 0 && reanchor_position_sigma < 10))
     throw OptionError("reanchor_position_sigma", "must be in [0, 10) m");
@@ -45,6 +47,18 @@ void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
 namespace {
 
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
+
+// The grey levels a corner's neighbourhood spans in this frame (`half` pixels either side): an
+// X-junction's black and white squares, a hundred or more levels on the renders and vamr; a blank
+// frame, none.
+double cornerContrast(const cv::Mat& grey, const cv::Point2f& uv, int half) {
+  const cv::Rect window = cv::Rect(cvRound(uv.x) - half, cvRound(uv.y) - half, 2 * half + 1, 2 * half + 1) &
+                          cv::Rect(0, 0, grey.cols, grey.rows);
+  if (window.empty()) return 0;
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(grey(window), &lo, &hi);
+  return hi - lo;
+}
 
 }  // namespace
 
@@ -221,6 +235,17 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
       uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
     }
     refineCornersSubpixel(grey, half, uv, options_.detector.subpixel, &camera_);
+    // Tracking and refinement both leave a corner where it started on a blank frame (LK's gradients
+    // are the last frame's; a flat window moves no refinement), and the corners were measured at
+    // their predictions, posing a frame that showed nothing.
+    size_t contrasted = 0;
+    for (size_t k = 0; k < ids.size(); ++k)
+      if (cornerContrast(grey, uv[k], half) >= options_.min_corner_contrast) {
+        ids[contrasted] = ids[k];
+        uv[contrasted++] = uv[k];
+      }
+    ids.resize(contrasted);
+    uv.resize(contrasted);
     out = keep(pred, ids, uv);
     // Most of the corners lost by the tracking: a board search where the filter predicts it.
     if (!search_first && static_cast<int>(out.observations.size()) * 2 < predicted && all_in_image)

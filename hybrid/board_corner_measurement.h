@@ -40,6 +40,10 @@ struct BoardCornerMeasurementOptions {
   double max_predicted_search = 0.5;
   double max_plane_error_px = 1.5;   // corners off the board plane's homography by more are dropped, pixels
   int min_corners = 6;               // fewer corners kept: none is used this frame
+  // Grey levels a tracked corner's neighbourhood must span in this frame: a blank or washed-out
+  // frame's corners stayed at their predictions and were measured there (tv1 with five black
+  // frames: all posed as `board`, 54 corners each).
+  double min_corner_contrast = 16;
   int search_interval = 5;           // while the board is not seen where predicted, a full search every this many frames
   double reanchor_position_sigma = 0.02;     // m, added to the camera's when a found board disagrees with the filter
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
@@ -67,6 +71,8 @@ struct BoardCornerMeasurementOptions {
     v("max_plane_error_px", max_plane_error_px,
       "corners farther than this from the board plane's homography through the others are dropped, pixels");
     v("min_corners", min_corners, "fewer corners kept: the board is not used in this frame");
+    v("min_corner_contrast", min_corner_contrast,
+      "grey levels a tracked corner's neighbourhood must span in this frame to be measured (a blank frame's span none)");
     v("search_interval", search_interval,
       "while the board is not where the filter predicts it, the whole image is searched every this many frames");
     v("reanchor_position_sigma", reanchor_position_sigma,

@@ -262,6 +262,17 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     started_here = true;
     if (two_view_) two_view_->update(frame.grey, slam_.state());  // the first tracks
     slam_.updateMap(frame.grey, visible_);
+    // A board-free map starts from its first frame's features, and never restarts: a frame without
+    // any (a covered lens, a blank wall) would start an empty map and lose the whole run. The start
+    // waits for texture. (A textured frame may give only a few: the initialisation adds features a
+    // few boxes a frame, 3 in tum_fr1_rpy's first.)
+    if (init_ == InitSource::None && slam_.features().empty()) {
+      ever_started_ = false;
+      running_ = false;
+      result.status = TrackStatus::Initialising;
+      result.reason = "waiting for texture to start the map: no feature found";
+      return result;
+    }
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
       result.overlay->board_corners = start_corners_;

@@ -82,5 +82,21 @@ TEST(PoseReporting, WeaklyMeasuredFramesRunning) {
   EXPECT_EQ(reporting.weakness(3, 0, 0, false, state), "fewer than 4 measurements a frame for 3 frames");
 }
 
+// A frame that measured nothing (a blank frame, one spliced from elsewhere) is lost at once: its pose
+// would be the motion model's alone. Only that frame: the next one measured is posed, as nothing
+// moved the filter. An anchored frame (a start from the board) measures nothing else and is posed.
+TEST(PoseReporting, AFrameThatMeasuredNothingIsLost) {
+  PoseReporting reporting{ReportingOptions{}};
+  const EkfState state = certainState();
+  EXPECT_EQ(reporting.weakness(0, 0, 0, false, state), "nothing measured in this frame: the pose would be the motion model's");
+  EXPECT_EQ(reporting.weakness(6, 0, 0, false, state), "");
+  EXPECT_EQ(reporting.weakness(0, 0, 0, true, state), "");
+  // Still a weak frame of those running: three weak ones in a row are lost until an anchor.
+  EXPECT_NE(reporting.weakness(0, 0, 0, false, state), "");
+  EXPECT_EQ(reporting.weakness(2, 0, 0, false, state), "");
+  EXPECT_EQ(reporting.weakness(2, 0, 0, false, state), "fewer than 4 measurements a frame for 3 frames");
+  EXPECT_NE(reporting.weakness(6, 0, 0, false, state).find("not anchored since"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace slamcmp
