@@ -49,8 +49,8 @@ namespace {
 constexpr double kMinCornerDepth = 0.05;  // m: a corner closer to the camera is not predicted
 
 // The grey levels a corner's neighbourhood spans in this frame (`half` pixels either side): an
-// X-junction's black and white squares, a hundred or more levels on the renders and vamr; a blank
-// frame, none.
+// X-junction's black and white squares span far more than the 16 asked (no corner of the renders'
+// or vamr_checkerboard's falls under it: their trajectories are unchanged); a blank frame, none.
 double cornerContrast(const cv::Mat& grey, const cv::Point2f& uv, int half) {
   const cv::Rect window = cv::Rect(cvRound(uv.x) - half, cvRound(uv.y) - half, 2 * half + 1, 2 * half + 1) &
                           cv::Rect(0, 0, grey.cols, grey.rows);
