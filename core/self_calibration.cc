@@ -116,8 +116,11 @@ std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not)
 }
 
 std::string SelfCalibrator::whyNotCalibrated() const {
-  if (!last_refusal_.empty()) return std::to_string(numViews()) + " distinct board views: " + last_refusal_;
-  return "only " + std::to_string(numViews()) + " distinct board views (need " + std::to_string(options_.min_views) + ")";
+  const std::string views = std::to_string(numViews()) + " distinct board views";
+  return "no camera file, and self-calibration failed: " +
+         (last_refusal_.empty() ? "only " + views + " (need " + std::to_string(options_.min_views) + ")"
+                                : views + ": " + last_refusal_) +
+         "; give --camera";
 }
 
 CalibrationResult calibrateFromFrames(FrameSource& frames, const ChessboardTarget& target, cv::Size image_size,

@@ -62,8 +62,8 @@ class SelfCalibrator {
   // folds over the image (core/distortion_fold.h); empty with fewer than min_views, an error over
   // max_rms_px, parallel views or a fold even with k1 alone, and then `why_not` (if given) says which.
   std::optional<CalibrationResult> calibrate(std::string* why_not = nullptr);
-  // Why no calibration came of the views so far, for a run that ends uncalibrated: the last
-  // calibration's refusal, or too few views if none was tried.
+  // The error of a run that ends uncalibrated (no camera file given): why no calibration came of
+  // the views, the last calibration's refusal or too few views if none was tried.
   std::string whyNotCalibrated() const;
 
  private:

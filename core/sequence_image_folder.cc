@@ -1,10 +1,10 @@
 // A plain folder of images: the frames in file name order, timestamped at a rate the user gives.
 #include <algorithm>
-#include <cctype>
 
 #include "core/error.h"
 #include "core/image_list.h"
 #include "core/sequence_format.h"
+#include "core/text_file.h"
 
 namespace fs = std::filesystem;
 
@@ -13,8 +13,7 @@ namespace slamcmp {
 namespace {
 
 bool isImageFile(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lowerExtension(p.string());
   static const char* kExt[] = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".webp"};
   return std::any_of(std::begin(kExt), std::end(kExt), [&](const char* e) { return ext == e; });
 }

@@ -1,11 +1,11 @@
 // A video file, through the media plugin (OpenCV videoio); timestamps from its frame rate.
-#include <cctype>
 #include <cmath>
 
 #include "core/error.h"
 #include "core/image.h"
 #include "core/media_plugin.h"
 #include "core/sequence_format.h"
+#include "core/text_file.h"
 
 namespace fs = std::filesystem;
 
@@ -51,8 +51,7 @@ class VideoFormat : public SequenceFormat {
     const std::string file = path.string();
     // FFmpeg opens a text file too (its tty demuxer draws the text as 640x400 frames), and the
     // camera file's size was then blamed.
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string extension = lowerExtension(file);
     for (const char* text : {".txt", ".csv", ".yaml", ".yml", ".json", ".md"})
       if (extension == text)
         throw InputError(file, "is a text file, not a video: for a TUM or EuRoC sequence give its folder");

@@ -1,5 +1,6 @@
 #include "core/text_file.h"
 
+#include <cctype>
 #include <filesystem>
 #include <system_error>
 
@@ -16,6 +17,12 @@ std::ifstream openTextFile(const std::string& path, std::ios::openmode mode) {
   std::ifstream in(path, mode);
   if (!in) throw InputError(path, "cannot be opened (missing or unreadable)");
   return in;
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
 }
 
 }  // namespace slamcmp

@@ -1,6 +1,6 @@
 #pragma once
 // Opening a file the user named (a trajectory, an image list, a PLY map, a run's files read back
-// by compare --collect).
+// by compare --collect), and telling its kind by its name.
 #include <fstream>
 #include <ios>
 #include <string>
@@ -11,5 +11,8 @@ namespace slamcmp {
 // folder ("is a folder, not a text file": a folder would read as an empty file, or throw from
 // the stream's first read) or cannot be opened.
 std::ifstream openTextFile(const std::string& path, std::ios::openmode mode = std::ios::in);
+
+// The file name's extension in lower case, with its dot (".csv", ".png"; "" if none).
+std::string lowerExtension(const std::string& path);
 
 }  // namespace slamcmp

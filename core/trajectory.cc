@@ -65,14 +65,6 @@ bool isCommentOrBlank(const std::string& line) {
   return true;
 }
 
-std::string lowerExtension(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  const auto slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // Reads data lines as numbers; calls f(numbers, line_number) for each.
 template <class F>
@@ -121,7 +113,7 @@ std::vector<double> readKittiTimes(const std::string& path) {
 }  // namespace
 
 TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
-  const bool csv = lowerExtension(path) == "csv";
+  const bool csv = lowerExtension(path) == ".csv";
   std::ifstream in = openTextFile(path);
   std::string line;
   std::vector<double> v;

@@ -88,8 +88,7 @@ nlohmann::json CslamTracker::options() const {
 
 void CslamTracker::finish() {
   if (!camera_)
-    throw InputError("", "no camera file, and self-calibration failed: " + calibrator_->whyNotCalibrated() +
-                             "; give --camera");
+    throw InputError("", calibrator_->whyNotCalibrated());
   if (posed_frames_ == 0)  // every mode needs the board once: it sets the world frame and the scale
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }

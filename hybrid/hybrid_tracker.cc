@@ -54,8 +54,7 @@ nlohmann::json HybridTracker::options() const {
 void HybridTracker::finish() {
   if (ever_started_) return;
   if (!camera_)
-    throw InputError("", "no camera file, and self-calibration failed: " + calibrator_->whyNotCalibrated() +
-                             "; give --camera");
+    throw InputError("", calibrator_->whyNotCalibrated());
   throw InputError("", "hybrid never started: no frame showed the " + std::to_string(target_.cols) + "x" +
                            std::to_string(target_.rows) + " chessboard");
 }

@@ -73,10 +73,9 @@ void addCompareCommand(CLI::App& app) {
     if (!plan_dir->empty()) {
       options->out_dir = *plan_dir;
       const size_t runs = planCompare(*options);
-      const std::string dir = shellQuoted(*plan_dir);
       std::cout << "plan: " << runs << " runs in " << *plan_dir << "/jobs.txt; run them with `parallel < "
                 << shellQuoted(*plan_dir + "/jobs.txt") << "` or `sbatch " << shellQuoted(*plan_dir + "/slurm.sbatch")
-                << "`, then `slamcmp compare --collect " << dir << "`\n";
+                << "`, then `slamcmp compare --collect " << shellQuoted(*plan_dir) << "`\n";
       return;
     }
     if (options->out_dir.empty()) throw InputError("compare", "give --out DIR (or --plan DIR, or --collect DIR)");

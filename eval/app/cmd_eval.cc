@@ -111,8 +111,8 @@ void addEvalCommand(CLI::App& app) {
     std::optional<MapEvaluation> map_evaluation;
     if (has_map) {
       const std::vector<MapPoint> map = readMapPly(request->map_path);
-      map_evaluation = evaluateMap(map, readSceneYaml(request->scene_path));
       if (map.empty()) throw InputError(request->map_path, "holds no map point to score");
+      map_evaluation = evaluateMap(map, readSceneYaml(request->scene_path));
     }
     if (request->groundtruth_path.empty()) {
       if (request->json) {

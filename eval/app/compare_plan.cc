@@ -30,7 +30,6 @@ std::string selfExecutable() {
   return self.string();
 }
 
-
 struct Sweep {
   std::string key;                  // "cslam.features.max_features"
   std::string backend;              // "cslam"

@@ -262,9 +262,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   // The map as written scored, as the trajectory is (compare --collect scores the same file and
   // gets the same figures); a scale-free map through its trajectory's Sim(3), or not at all.
   if (scene && (!scale_free || T_gt_scale_free)) {
-    std::vector<MapPoint> map = readMapPly(out_dir + "/map.ply");
-    if (T_gt_scale_free)
-      for (MapPoint& p : map) p.p_world = *T_gt_scale_free * p.p_world;
+    const std::vector<MapPoint> map = readRunMap(out_dir + "/map.ply", T_gt_scale_free ? &*T_gt_scale_free : nullptr);
     extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
   }
   return recorder.writeSummary(extra);

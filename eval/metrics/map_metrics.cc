@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/map_ply.h"
 #include "eval/metrics/scene_distance.h"
 
 namespace slamcmp {
@@ -30,6 +31,13 @@ MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry&
   e.stats = mapErrorStats(estimated);
   e.stats.known = static_cast<int>(map.size() - estimated.size());
   return e;
+}
+
+std::vector<MapPoint> readRunMap(const std::string& ply_path, const Similarity3* T_gt_estimate) {
+  std::vector<MapPoint> map = readMapPly(ply_path);
+  if (T_gt_estimate)
+    for (MapPoint& p : map) p.p_world = *T_gt_estimate * p.p_world;
+  return map;
 }
 
 nlohmann::json mapStatsToJson(const MapErrorStats& s) {

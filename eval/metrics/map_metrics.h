@@ -10,6 +10,7 @@
 #include "core/statistics.h"
 #include "core/tracker.h"
 #include "datasets/scene_yaml.h"
+#include "eval/metrics/align_umeyama.h"
 
 namespace slamcmp {
 
@@ -30,6 +31,11 @@ struct MapEvaluation {
 // Every point gets its error; the statistics leave out the known points (sigma exactly 0), which
 // would score 0 by construction and flatter a small map.
 MapEvaluation evaluateMap(const std::vector<MapPoint>& map, const SceneGeometry& scene);
+
+// A run's map.ply as written, in the ground truth's frame: a scale-free run's (given its
+// trajectory's Sim(3) alignment, T_gt_estimate) through that alignment, any other's as it is.
+// Scored so by `run` and by compare --collect alike, which then agree to the digit.
+std::vector<MapPoint> readRunMap(const std::string& ply_path, const Similarity3* T_gt_estimate);
 
 // {points, known, rmse, median, max, within_1cm}; the statistics are null when there are no points.
 nlohmann::json mapStatsToJson(const MapErrorStats& stats);

@@ -13,6 +13,7 @@ constexpr int kStepSize = 10;  // the devkit's step_size: a segment starts at ev
 // would get its 100 m segments from a few starts only (EuRoC's MH_03, 131 m: from its first 31 m),
 // so tenths of the path, as for a room.
 constexpr double kKittiPathM = 300.0;
+bool kittiLengths(double path_m) { return path_m > kKittiPathM; }
 
 // The devkit's rotationError: acos(max(min(0.5 (trace - 1), 1), -1)).
 double rotationErrorRad(const Mat3& R) {
@@ -24,7 +25,7 @@ double rotationErrorRad(const Mat3& R) {
 
 std::vector<double> driftSegmentLengths(double path_m) {
   std::vector<double> lengths;
-  const bool kitti = path_m > kKittiPathM;
+  const bool kitti = kittiLengths(path_m);
   for (int k = 1; k <= 8; ++k) lengths.push_back(kitti ? 100.0 * k : 0.1 * k * path_m);
   return lengths;
 }
@@ -61,7 +62,7 @@ std::optional<SegmentDrift> segmentDrift(const std::vector<SE3>& T_world_gt, con
 
   SegmentDrift out;
   out.path_m = path_m;
-  out.kitti_lengths = path_m > kKittiPathM;
+  out.kitti_lengths = kittiLengths(path_m);
   double trans_sum = 0, rot_sum = 0;
   for (const double length : driftSegmentLengths(path_m)) {
     DriftAtLength at;

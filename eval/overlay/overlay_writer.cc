@@ -1,6 +1,5 @@
 #include "eval/overlay/overlay_writer.h"
 
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
@@ -9,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/sequence.h"
+#include "core/text_file.h"
 
 namespace slamcmp {
 
@@ -34,8 +34,7 @@ void createFolder(const fs::path& folder, const std::string& path) {
 
 OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size, double fps) : path_(path) {
   const fs::path p(path);
-  std::string extension = p.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = lowerExtension(path);
   std::error_code ec;
   const bool png_folder = fs::is_directory(p, ec) || extension.empty();
   if (png_folder) {

@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "core/map_ply.h"
 #include "core/sequence.h"
 #include "core/statistics.h"
 #include "core/text_file.h"
@@ -123,9 +122,8 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   if (fs::exists(dir + "/nees.csv")) r.nees = readNeesCsv(dir + "/nees.csv");
   if (seq.scene) {
-    r.map = readMapPly(dir + "/map.ply");
-    if (r.errors && r.errors->align == "sim3")  // a scale-free map, through its trajectory's alignment
-      for (MapPoint& p : r.map) p.p_world = r.errors->T_gt_estimate * p.p_world;
+    const bool scale_free = r.errors && r.errors->align == "sim3";
+    r.map = readRunMap(dir + "/map.ply", scale_free ? &r.errors->T_gt_estimate : nullptr);
     r.map_errors = evaluateMap(r.map, *seq.scene);
   }
   return r;
