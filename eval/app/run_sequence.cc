@@ -251,7 +251,7 @@ nlohmann::json runSequence(const RunRequest& request) {
       }
       if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free)) {
         extra["nees"] = neesToJson(*nees);
-        writeNeesCsv(out_dir + "/nees.csv", nees->per_frame);  // for compare's test over trials
+        writeNeesCsv(out_dir + "/nees.csv", *nees);  // for compare's test over trials
       }
     } catch (const InputError& e) {  // the run is fine; only its score is impossible, which is said
       extra["metrics_error"] = e.what();

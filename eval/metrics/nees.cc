@@ -75,29 +75,52 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     G.bottomRightCorner<3, 3>() = T_gt_estimate.R;
     Eigen::Matrix<double, 6, 1> e;
     e << gt.t() - T_gt_est.t(), rotvecFromRotation(gt.R() * T_gt_est.R().transpose());
-    const Eigen::LLT<PoseCovariance> llt(G * est.covariance * G.transpose());
+    const PoseCovariance P = G * est.covariance * G.transpose();
+    const Eigen::LLT<PoseCovariance> llt(P);
     if (llt.info() != Eigen::Success) continue;
     const double nees = e.dot(llt.solve(e));
+    // Each part over its own block: the marginal of the other part's error (ov_eval's NEES pos / ori).
+    const Vec3 e_p = e.head<3>(), e_r = e.tail<3>();
+    const NeesParts parts{e_p.dot(P.topLeftCorner<3, 3>().llt().solve(e_p)),
+                          e_r.dot(P.bottomRightCorner<3, 3>().llt().solve(e_r))};
     r.per_frame.push_back({est.timestamp, nees});
+    r.per_frame_parts.push_back(parts);
     sum += nees;
+    r.position.mean += parts.position;
+    r.orientation.mean += parts.orientation;
   }
   const int n = r.frames();
   if (n == 0) return std::nullopt;
-  r.mean = sum / n;
-  r.lower = chiSquareQuantile(0.025, 6.0 * n) / n;
-  r.upper = chiSquareQuantile(0.975, 6.0 * n) / n;
+  const auto bounded = [n](double sum_of_nees, int dof) {
+    return NeesMean{sum_of_nees / n, dof, chiSquareQuantile(0.025, 1.0 * dof * n) / n,
+                    chiSquareQuantile(0.975, 1.0 * dof * n) / n};
+  };
+  const NeesMean whole = bounded(sum, 6);
+  r.mean = whole.mean;
+  r.lower = whole.lower;
+  r.upper = whole.upper;
+  r.position = bounded(r.position.mean, 3);
+  r.orientation = bounded(r.orientation.mean, 3);
   return r;
 }
 
 nlohmann::json neesToJson(const NeesResult& nees) {
-  return {{"mean", nees.mean}, {"dof", nees.dof}, {"lower", nees.lower}, {"upper", nees.upper}, {"frames", nees.frames()}};
+  const auto part = [](const NeesMean& m) {
+    return nlohmann::json{{"mean", m.mean}, {"dof", m.dof}, {"lower", m.lower}, {"upper", m.upper}};
+  };
+  return {{"mean", nees.mean},         {"dof", nees.dof},
+          {"lower", nees.lower},       {"upper", nees.upper},
+          {"frames", nees.frames()},   {"position", part(nees.position)},
+          {"orientation", part(nees.orientation)}};
 }
 
-void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows) {
+void writeNeesCsv(const std::string& path, const NeesResult& nees) {
   std::ofstream out(path);
   if (!out) throw InputError(path, "cannot be written");
-  out << "timestamp,nees\n" << std::setprecision(17);
-  for (const TimedNees& r : rows) out << r.timestamp << "," << r.nees << "\n";
+  out << "timestamp,nees,position,orientation\n" << std::setprecision(17);
+  for (size_t k = 0; k < nees.per_frame.size(); ++k)
+    out << nees.per_frame[k].timestamp << "," << nees.per_frame[k].nees << "," << nees.per_frame_parts[k].position
+        << "," << nees.per_frame_parts[k].orientation << "\n";
   if (!out) throw InputError(path, "cannot be written");
 }
 
@@ -105,16 +128,23 @@ std::vector<TimedNees> readNeesCsv(const std::string& path) {
   std::ifstream in = openTextFile(path);  // a folder would have the wrong header
   std::string line;
   if (std::getline(in, line) && !line.empty() && line.back() == '\r') line.pop_back();
-  if (line != "timestamp,nees") throw InputError(atLine(path, 1), "header is not timestamp,nees");
+  const char* const kEarlier = "timestamp,nees";  // before the parts were written
+  const char* const kHeader = "timestamp,nees,position,orientation";
+  if (line != kEarlier && line != kHeader) throw InputError(atLine(path, 1), std::string("header is not ") + kHeader);
+  const std::vector<const char*> fields = line == kHeader ? std::vector<const char*>{"timestamp", "nees", "position", "orientation"}
+                                                          : std::vector<const char*>{"timestamp", "nees"};
   std::vector<TimedNees> rows;
   for (int n = 2; std::getline(in, line); ++n) {
     if (!line.empty() && line.back() == '\r') line.pop_back();  // written on Windows
     if (line.empty()) continue;
     const std::string where = atLine(path, n);
-    const size_t comma = line.find(',');
-    if (comma == std::string::npos) throw InputError(where, "expected timestamp,nees");
-    TimedNees r;
-    const auto number = [&](const std::string& text, const char* field) {
+    std::vector<double> values;
+    size_t begin = 0;
+    for (const char* field : fields) {
+      const size_t comma = line.find(',', begin);
+      const bool last = values.size() + 1 == fields.size();
+      if (last != (comma == std::string::npos)) throw InputError(where, std::string("expected ") + (fields.size() == 2 ? kEarlier : kHeader));
+      const std::string text = line.substr(begin, last ? std::string::npos : comma - begin);
       size_t used = 0;
       double v = NAN;
       try {
@@ -122,12 +152,11 @@ std::vector<TimedNees> readNeesCsv(const std::string& path) {
       } catch (const std::exception&) {
       }
       if (used != text.size() || !std::isfinite(v)) throw InputError(where, std::string(field) + " is not a finite number");
-      return v;
-    };
-    r.timestamp = number(line.substr(0, comma), "timestamp");
-    r.nees = number(line.substr(comma + 1), "nees");
-    if (r.nees < 0) throw InputError(where, "nees is negative");
-    rows.push_back(r);
+      if (values.size() > 0 && v < 0) throw InputError(where, std::string(field) + " is negative");
+      values.push_back(v);
+      begin = comma + 1;
+    }
+    rows.push_back({values[0], values[1]});
   }
   return rows;
 }

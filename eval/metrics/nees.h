@@ -2,7 +2,9 @@
 // A filter's honesty against ground truth (SPEC section 4 `nees`): the normalised estimation error
 // squared of the pose, e^T P^-1 e over its 6 dof (position, world-frame rotation vector), averaged
 // over the run, with the 95 % bounds of that average for a consistent filter (Bar-Shalom, Li and
-// Kirubarajan 2001, 5.4.2: N times the average is chi-square with 6N dof).
+// Kirubarajan 2001, 5.4.2: N times the average is chi-square with 6N dof). Also its position and
+// orientation parts, each over its own 3 x 3 block of the covariance (3 dof), as OpenVINS's
+// ov_eval reports them: the 6-dof figure alone does not say which of the two is off.
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,11 +29,25 @@ struct TimedNees {
   double nees = 0;
 };
 
+// The position and orientation parts of one pose's NEES (3 dof each, their own covariance blocks).
+struct NeesParts {
+  double position = 0, orientation = 0;
+};
+
+// A mean over the scored poses with its 95 % bounds for a consistent filter.
+struct NeesMean {
+  double mean = 0;
+  int dof = 6;
+  double lower = 0, upper = 0;
+};
+
 struct NeesResult {
   double mean = 0;
   int dof = 6;
   double lower = 0, upper = 0;  // 95 % bounds of the mean for a consistent filter
+  NeesMean position, orientation;  // the 3-dof parts' means and bounds
   std::vector<TimedNees> per_frame;  // the poses scored, in the estimate's order (nees.csv)
+  std::vector<NeesParts> per_frame_parts;  // the same poses' parts
   int frames() const { return static_cast<int>(per_frame.size()); }
 };
 
@@ -54,10 +70,11 @@ double chiSquareQuantile(double probability, double dof);
 
 nlohmann::json neesToJson(const NeesResult& nees);
 
-// nees.csv: `timestamp,nees`, a row a scored pose (what compare's Monte Carlo test reads back). The
-// reader throws InputError naming the file, line and field of a value that is not a finite number
-// (or a NEES below zero).
-void writeNeesCsv(const std::string& path, const std::vector<TimedNees>& rows);
+// nees.csv: `timestamp,nees,position,orientation`, a row a scored pose (the 6-dof NEES, what
+// compare's Monte Carlo test reads back, and its 3-dof parts). The reader also takes the
+// `timestamp,nees` files of earlier versions, and throws InputError naming the file, line and
+// field of a value that is not a finite number (or a NEES below zero).
+void writeNeesCsv(const std::string& path, const NeesResult& nees);
 std::vector<TimedNees> readNeesCsv(const std::string& path);
 
 }  // namespace slamcmp

@@ -80,8 +80,14 @@ TEST(MonteCarloNees, FramesAreMatchedByTimestampAndNeedTwoTrials) {
 
 TEST(NeesCsv, RoundTripsExactlyAndRefusesWhatIsNotANumber) {
   test::TempDir dir;
-  const std::vector<TimedNees> rows{{0.1, 6.123456789012345}, {1e9 + 0.033333, 1e-12}, {2.5, 0}};
-  writeNeesCsv(dir.file("nees.csv"), rows);
+  NeesResult written;
+  written.per_frame = {{0.1, 6.123456789012345}, {1e9 + 0.033333, 1e-12}, {2.5, 0}};
+  written.per_frame_parts = {{3.5, 2.25}, {1e-13, 1e-12}, {0, 0}};
+  const std::vector<TimedNees>& rows = written.per_frame;
+  writeNeesCsv(dir.file("nees.csv"), written);
+  std::string header;
+  std::getline(std::ifstream(dir.file("nees.csv")) >> std::ws, header);
+  EXPECT_EQ(header, "timestamp,nees,position,orientation");
   const std::vector<TimedNees> back = readNeesCsv(dir.file("nees.csv"));
   ASSERT_EQ(back.size(), rows.size());
   for (size_t k = 0; k < rows.size(); ++k) {
@@ -103,6 +109,15 @@ TEST(NeesCsv, RoundTripsExactlyAndRefusesWhatIsNotANumber) {
   refused("timestamp,nees\n0.1 6\n", "bad.csv:2: expected timestamp,nees");
   refused("t,n\n", "bad.csv:1: header is not timestamp,nees");
   refused("timestamp,nees\n0.1,6abc\n", "bad.csv:2: nees is not a finite number");
+  refused("timestamp,nees\n0.1,6,3\n", "bad.csv:2: expected timestamp,nees");
+  refused("timestamp,nees,position,orientation\n0.1,6,3\n", "bad.csv:2: expected timestamp,nees,position,orientation");
+  refused("timestamp,nees,position,orientation\n0.1,6,3,-1\n", "bad.csv:2: orientation is negative");
+  refused("timestamp,nees,position,orientation\n0.1,6,inf,1\n", "bad.csv:2: position is not a finite number");
+  // A file of an earlier version (no parts) is still read.
+  std::ofstream(dir.file("earlier.csv")) << "timestamp,nees\n0.1,6\n0.2,5\n";
+  const std::vector<TimedNees> earlier = readNeesCsv(dir.file("earlier.csv"));
+  ASSERT_EQ(earlier.size(), 2u);
+  EXPECT_EQ(earlier[1].nees, 5);
   // Windows line ends and a blank last line are read as they are meant.
   std::ofstream(dir.file("crlf.csv")) << "timestamp,nees\r\n0.1,6\r\n\n";
   ASSERT_EQ(readNeesCsv(dir.file("crlf.csv")).size(), 1u);

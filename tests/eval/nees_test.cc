@@ -85,6 +85,47 @@ TEST(Nees, ErrorsDrawnFromTheCovarianceAverageTheDof) {
   EXPECT_EQ(nees->frames(), 1000);
   EXPECT_GT(nees->mean, nees->lower);
   EXPECT_LT(nees->mean, nees->upper);
+  // Each part over its own block is chi-square with 3 dof too (the covariance couples them).
+  for (const NeesMean& part : {nees->position, nees->orientation}) {
+    EXPECT_EQ(part.dof, 3);
+    EXPECT_GT(part.mean, part.lower);
+    EXPECT_LT(part.mean, part.upper);
+  }
+  EXPECT_NEAR(nees->position.lower, chiSquareQuantile(0.025, 3000) / 1000, 1e-12);
+}
+
+// The parts say which half is off: an orientation error beyond its covariance (a shared bias of
+// 3 sigma about one axis) takes the orientation part and the whole NEES out of their bounds and
+// leaves the position part inside, where the position's own covariance is independent of it.
+TEST(Nees, PartsSeparatePositionFromOrientation) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  Trajectory groundtruth;
+  std::vector<CovariantPose> estimate;
+  for (int i = 0; i < 300; ++i) {
+    const double t = 0.1 * i;
+    const SE3 T_true = SE3::fromRotvec(Vec3(0.2, 0.01 * i, -0.3), Vec3(0.05 * i, 0.1, 1.0));
+    PoseCovariance P = PoseCovariance::Zero();
+    P.diagonal() << 1e-6, 4e-6, 9e-6, 1e-8, 4e-8, 1e-8;
+    Eigen::Matrix<double, 6, 1> e;
+    for (int k = 0; k < 6; ++k) e(k) = normal(rng) * std::sqrt(P(k, k));
+    e(4) += 3 * std::sqrt(P(4, 4));
+    const SE3 T_est(rotationFromRotvec(-e.tail<3>()) * T_true.R(), T_true.t() - e.head<3>());
+    groundtruth.push_back({t, T_true});
+    estimate.push_back({t, T_est, P});
+  }
+  const auto nees = poseNees(groundtruth, estimate, 0.01);
+  ASSERT_TRUE(nees);
+  ASSERT_EQ(nees->per_frame_parts.size(), nees->per_frame.size());
+  EXPECT_GT(nees->position.mean, nees->position.lower);
+  EXPECT_LT(nees->position.mean, nees->position.upper);
+  EXPECT_GT(nees->orientation.mean, 3 * nees->orientation.upper);  // about 1 + 1 + 10 = 12 against 3
+  EXPECT_GT(nees->mean, nees->upper);
+  // With a block-diagonal covariance the whole is the sum of its parts, frame by frame.
+  for (size_t k = 0; k < nees->per_frame.size(); ++k)
+    EXPECT_NEAR(nees->per_frame[k].nees,
+                nees->per_frame_parts[k].position + nees->per_frame_parts[k].orientation,
+                1e-9 * nees->per_frame[k].nees);
 }
 
 

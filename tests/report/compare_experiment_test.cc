@@ -146,14 +146,19 @@ TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
     if (row.at("method") != "monoslam") continue;
     const std::vector<std::string> lines = test::readLines(tmp.file("out/" + row.at("run") + "/nees.csv"));
     ASSERT_GT(lines.size(), 10u) << row.at("run");
-    EXPECT_EQ(lines[0], "timestamp,nees");
-    double sum = 0;
+    EXPECT_EQ(lines[0], "timestamp,nees,position,orientation");
+    double sum = 0, position = 0, orientation = 0;
     for (size_t k = 1; k < lines.size(); ++k) {
       const std::vector<std::string> f = csvFields(lines[k]);
       per_frame[std::stod(f[0])].push_back(std::stod(f[1]));
       sum += std::stod(f[1]);
+      position += std::stod(f[2]);
+      orientation += std::stod(f[3]);
     }
-    EXPECT_NEAR(std::stod(row.at("nees_mean")), sum / (lines.size() - 1), 1e-9 * sum);  // summary.json's
+    const double n = lines.size() - 1;
+    EXPECT_NEAR(std::stod(row.at("nees_mean")), sum / n, 1e-9 * sum);  // summary.json's
+    EXPECT_NEAR(std::stod(row.at("nees_position_mean")), position / n, 1e-9 * position);
+    EXPECT_NEAR(std::stod(row.at("nees_orientation_mean")), orientation / n, 1e-9 * orientation);
   }
   double anees_sum = 0;
   int frames = 0;
