@@ -93,11 +93,15 @@ cv::Mat SceneRenderer::renderFrame(const std::function<SE3(double)>& T_world_cam
     const double px_per_frame = (uv_after - uv_before).norm();
     const double exposure = px_per_frame > effects.blur_px ? effects.blur_px / px_per_frame : 1.0;
     const double streak = exposure * px_per_frame;
-    // About one render per pixel of streak, so the average is smooth.
+    // About one render per pixel of streak, so the average is smooth; each at the middle of its
+    // share of the exposure (the midpoint rule), so that the mean over the renders is the mean
+    // over the exposure: renders at both ends weighed the ends as much as the rest, and put an
+    // accelerating image's mean 0.07 of its acceleration (pixels/frame^2) off with 4 renders,
+    // where a sensor integrating the exposure gives 1/24 (hybrid/exposure_shift.h).
     const int renders = std::clamp(static_cast<int>(std::ceil(streak)) + 1, 2, 32);
     image = cv::Mat::zeros(camera_.height, camera_.width, CV_32F);
     for (int k = 0; k < renders; ++k) {
-      const double tk = t + exposure * frame_interval * (static_cast<double>(k) / (renders - 1) - 0.5);
+      const double tk = t + exposure * frame_interval * ((k + 0.5) / renders - 0.5);
       image += radiance(T_world_camera_at, tk, effects.rolling_shutter);
     }
     image /= renders;

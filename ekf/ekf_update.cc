@@ -204,22 +204,35 @@ void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::Vect
 // matrix is formed or factored, and K S K^T = W W^T with W = P_c G^T L^-T (N = L L^T): rank 7.
 // (Seen at their rows' times, over (r, q, v, w), the 13 x 13 gain strays from the dense formula
 // by up to 500 times the batch update's: v and w barely move h, and N's eigenvalues spread.)
-bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observations, const PointNoise& noise,
                           const Relinearise& relinearise, int max_iterations, double tolerance) {
   using Mat77 = Eigen::Matrix<double, kPose, kPose>;
   using Vec7 = Eigen::Matrix<double, kPose, 1>;
   const auto P_c = state.P().leftCols<kPose>();  // P is not written before the downdate
   const Mat77 P_cc = P_c.topRows<kPose>();
-  const double noise_var = pixel_sigma * pixel_sigma;
+  const double noise_var = noise.sigma * noise.sigma;
+  // The shared shift by Woodbury: sigma^2 R^-1 = I - J M J^T, M = C (sigma^2 I + m C)^-1 (C the
+  // shift's covariance; C and sigma^2 I + m C commute, so M is symmetric and needs no C^-1).
+  const double m = static_cast<double>(observations->size());
+  const Mat2 M = noise.shared * (noise_var * Mat2::Identity() + m * noise.shared).inverse();
+  const bool shared = !noise.shared.isZero(0);
   Mat77 G;
   Eigen::LLT<Mat77> N;
   const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {  // false: S not positive definite
     Mat77 HtH = Mat77::Zero();
     Vec7 Ht_nu = Vec7::Zero();
+    Eigen::Matrix<double, 2, kPose> H_sum = Eigen::Matrix<double, 2, kPose>::Zero();
+    Vec2 nu_sum = Vec2::Zero();
     for (size_t k = 0; k < observations->size(); ++k) {
       const Eigen::Matrix<double, 2, kPose> H = cameraJacobian<kPose>((*observations)[k].h);
       HtH.noalias() += H.transpose() * H;
       Ht_nu.noalias() += H.transpose() * nu.segment<2>(2 * static_cast<long>(k));
+      H_sum += H;
+      nu_sum += nu.segment<2>(2 * static_cast<long>(k));
+    }
+    if (shared) {  // H^T (I - J M J^T) H and H^T (I - J M J^T) nu: sigma^2 times the whitened ones
+      HtH.noalias() -= H_sum.transpose() * M * H_sum;
+      Ht_nu.noalias() -= H_sum.transpose() * (M * nu_sum);
     }
     const Eigen::SelfAdjointEigenSolver<Mat77> eigen(HtH);
     const Vec7 lambda = eigen.eigenvalues().cwiseMax(0.0);
@@ -242,16 +255,19 @@ bool iteratedCameraUpdate(EkfState& state, std::vector<PointObservation>* observ
 
 }  // namespace
 
-bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, const PointNoise& noise,
                     const Relinearise& relinearise, int max_iterations, double tolerance) {
   if (observations->empty()) return true;
   const bool moving = anyRowTimed(*observations);
   if (knownPointsOnly(*observations) && !moving)
-    return iteratedCameraUpdate(state, observations, pixel_sigma, relinearise, max_iterations, tolerance);
+    return iteratedCameraUpdate(state, observations, noise, relinearise, max_iterations, tolerance);
   Eigen::MatrixXd W, S;
   Eigen::LLT<Eigen::MatrixXd> llt;
+  const long m = static_cast<long>(observations->size());
   const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {
-    gainInnovation(state.P(), *observations, pixel_sigma, &W, &S, nullptr);
+    gainInnovation(state.P(), *observations, noise.sigma, &W, &S, nullptr);
+    for (long i = 0; i < m; ++i)  // + J C J^T, the lower triangle (all that is read)
+      for (long j = 0; j <= i; ++j) S.block<2, 2>(2 * i, 2 * j) += noise.shared;
     llt.compute(S.selfadjointView<Eigen::Lower>());
     if (llt.info() != Eigen::Success) return false;
     x->noalias() += W * llt.solve(nu);

@@ -42,6 +42,17 @@ bool kalmanUpdate(EkfState& state, Eigen::MatrixXd W, const Eigen::MatrixXd& S, 
 // Returns false, leaving the state untouched, when S is not positive definite.
 bool batchUpdate(EkfState& state, const std::vector<PointObservation>& observations, double pixel_sigma);
 
+// The observations' pixel noise: independent per coordinate (sigma), and a shift of the whole image
+// that every observation of the frame shares (`shared`, covariance in pixels^2): a motion-blurred
+// frame shows each point where it was on average over the exposure, off its place at mid-exposure
+// by the same amount over the image when the camera accelerates (hybrid/exposure_shift.h).
+struct PointNoise {
+  PointNoise(double sigma) : sigma(sigma) {}  // NOLINT: a plain sigma is independent noise
+  PointNoise(double sigma, const Mat2& shared) : sigma(sigma), shared(shared) {}
+  double sigma;
+  Mat2 shared = Mat2::Zero();
+};
+
 // Re-predicts every observation's h (prediction and Jacobians) at the camera of the state vector x;
 // false when one cannot be predicted there (behind the camera).
 using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<PointObservation>* observations)>;
@@ -58,7 +69,8 @@ using Relinearise = std::function<bool(const Eigen::VectorXd& x, std::vector<Poi
 // leave with h at the updated state (where it can be predicted), so z - h are the update's
 // residuals. Returns false, leaving the state untouched, when S is not positive definite or an
 // observation cannot be predicted at an iterate.
-bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, double pixel_sigma,
+// The noise's shared shift enters R = sigma^2 I + J shared J^T (J stacks m 2 x 2 identities).
+bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations, const PointNoise& noise,
                     const Relinearise& relinearise, int max_iterations = 5, double tolerance = 1e-7);
 
 // The camera's orientation measured whole (R_world_camera, e.g. by two-view geometry) with std

@@ -36,6 +36,7 @@ void BoardCornerMeasurementOptions::check() const {
   if (!(reanchor_orientation_sigma >= 0 && reanchor_orientation_sigma < 1))
     throw OptionError("reanchor_orientation_sigma", "must be in [0, 1)");
   if (border_px < 0 || border_px > 100) throw OptionError("border_px", "must be in [0, 100]");
+  exposure.check();
 }
 
 void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {
@@ -70,6 +71,7 @@ BoardCornerMeasurer::BoardCornerMeasurer(const CameraModel& camera, const Chessb
       options_(options),
       readout_(rolling_shutter_readout),
       noise_(options.noise, options.pixel_sigma),
+      exposure_(options.exposure),
       detector_(target, options.detector, options.presence) {}
 
 void BoardCornerMeasurer::reset() {
@@ -102,7 +104,7 @@ std::vector<BoardCornerMeasurer::CornerPrediction> BoardCornerMeasurer::predict(
     p.in_image = uv.x() >= border && uv.y() >= border && uv.x() <= grey.cols - 1 - border &&
                  uv.y() <= grey.rows - 1 - border;
     if (!p.in_image) continue;
-    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, pixelSigma());
+    p.S = pointInnovationCovariance(state, p.h, kKnownPoint, pixelSigma()) + exposure_.covariance();
     p.half_axis_px = 3.0 * largestStd(p.S);
   }
   return pred;
@@ -349,7 +351,7 @@ bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) con
         return false;
     return true;
   };
-  return iteratedUpdate(state, &m->observations, pixelSigma(), predict_at);
+  return iteratedUpdate(state, &m->observations, PointNoise(pixelSigma(), exposure_.covariance()), predict_at);
 }
 
 void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {

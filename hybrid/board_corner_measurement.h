@@ -18,6 +18,7 @@
 #include "ekf/ekf_update.h"
 #include "ekf/measurement_model.h"
 #include "hybrid/corner_noise.h"
+#include "hybrid/exposure_shift.h"
 #include "tracking/board_presence.h"
 
 namespace slamcmp {
@@ -49,6 +50,7 @@ struct BoardCornerMeasurementOptions {
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
   int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
   CornerNoiseOptions noise;          // pixel_sigma estimated from the corners' scatter about the board plane
+  ExposureShiftOptions exposure;     // the shift all corners share in a motion-blurred frame
   // The corners by gradient orthogonality (core/subpixel_corner.h): cv::cornerSubPix leans up to
   // 0.05 px towards the nearest half pixel, the same in every frame, which a filter that weighs
   // the corners as they scatter cannot average out.
@@ -81,6 +83,7 @@ struct BoardCornerMeasurementOptions {
       "per quaternion component, added likewise");
     v("border_px", border_px, "corners predicted closer than this to the image border are not measured, pixels");
     v("noise", noise, "the corners' noise estimated from their scatter about the board plane");
+    v("exposure", exposure, "the shift every corner of a motion-blurred frame shares while the camera accelerates");
     v("detector", detector, "the board search where the filter predicts the board");
     v("presence", presence, "the quick test (X-junctions) before each search for the whole board");
   }
@@ -126,6 +129,12 @@ class BoardCornerMeasurer {
   bool update(EkfState& state, BoardCornerMeasurement* m) const;
   // Forget the tracked corners (a restart).
   void reset();
+  // The frame's board measurements are done: its corners kept go to the exposure shift's history.
+  void endFrame(double timestamp, const cv::Mat& grey) {
+    exposure_.addFrame(timestamp, grey, target_.cols, tracked_ids_, tracked_uv_);
+  }
+  // The exposure the shared shift assumes, over the frame interval (ExposureShift::exposure).
+  double exposure() const { return exposure_.exposure(); }
   // With a rolling shutter, the motion noise of this frame's prediction: the corners' noise is then
   // at least rollingShutterPixelSigma's (their rows' times predicted under constant velocities).
   void setMotionNoise(const MotionModelOptions& motion);
@@ -184,6 +193,7 @@ class BoardCornerMeasurer {
   std::vector<cv::Point2f> tracked_uv_;
   std::vector<cv::Point2f> outside_gates_;  // boardOutsideGates()
   CornerNoise noise_;
+  ExposureShift exposure_;  // the shared shift's covariance, from the last three frames' corners
   PresenceGatedDetector detector_;  // the board searches; learns from every view of the whole board
 };
 

@@ -178,6 +178,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
       result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
       return result;
     }
+    corners_->endFrame(frame.timestamp, frame.grey);
     motion_->update(slam_->state(), frame.grey, corners_->pyramid(), true);
     slam_->updateMap(frame.grey, visible_, boardPixels());
   } else {
@@ -192,6 +193,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
     {
       const StageTimer timer(&result.stages, "board");
       board = measureBoard(frame, &restarted);
+      corners_->endFrame(frame.timestamp, frame.grey);
     }
     if (restarted) result.reason = "the board disagreed with the filter: restarted from the board";
     {

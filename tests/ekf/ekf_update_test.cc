@@ -308,6 +308,48 @@ TEST(EkfUpdate, RowTimedMapPointBesideAFrameTimeOneIsTheDenseFormula) {
 
 // A camera covariance broken by round-off (negative position variances) makes S indefinite: the
 // iterated update of known points refuses it as the batch update does, and leaves the state.
+// A shift every point shares (a motion-blurred frame's, hybrid/exposure_shift.h): one iteration is
+// kalmanUpdate's dense formula with R = sigma^2 I + J C J^T (J stacks m 2 x 2 identities), in the
+// camera-only form (board corners at the frame's time) and in the dense one (at their rows'
+// times). The corners are measured 0.3 px off together, which the shift's noise takes up in part.
+TEST(EkfUpdate, ASharedShiftIsTheDenseFormulaWithItsCorrelatedNoise) {
+  for (const double readout : {0.0, 0.03}) {
+    BoardReturn b;
+    b.readout = readout;
+    b.prior.x().segment<3>(EkfState::kW) = Vec3(0.5, 1.0, -0.3);
+    std::vector<PointObservation> obs = b.observations();
+    const int m = static_cast<int>(obs.size());
+    ASSERT_EQ(obs[0].h.row_timed, readout > 0);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * m, b.prior.size());
+    Eigen::VectorXd nu(2 * m);
+    for (int k = 0; k < m; ++k) {
+      obs[k].z += Vec2(0.3, -0.2);
+      if (obs[k].h.row_timed) H.block<2, 13>(2 * k, 0) << obs[k].h.H_r, obs[k].h.H_q, obs[k].h.H_v, obs[k].h.H_w;
+      else H.block<2, 7>(2 * k, 0) << obs[k].h.H_r, obs[k].h.H_q;
+      nu.segment<2>(2 * k) = obs[k].z - obs[k].h.uv_distorted;
+    }
+    const double sigma = 0.05;
+    Mat2 C;
+    C << 0.04, 0.01, 0.01, 0.02;  // a shift of 0.1-0.2 px, more than each corner's own noise
+    Eigen::MatrixXd S = H * b.prior.P() * H.transpose() + sigma * sigma * Eigen::MatrixXd::Identity(2 * m, 2 * m);
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) S.block<2, 2>(2 * i, 2 * j) += C;
+    EkfState dense = b.prior;
+    ASSERT_TRUE(kalmanUpdate(dense, b.prior.P() * H.transpose(), S, nu));
+    const auto relinearise = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* o) { return b.predict(x, o); };
+    EkfState shared = b.prior, independent = b.prior;
+    std::vector<PointObservation> o1 = obs, o2 = obs;
+    ASSERT_TRUE(iteratedUpdate(shared, &o1, PointNoise(sigma, C), relinearise, 1));
+    ASSERT_TRUE(iteratedUpdate(independent, &o2, sigma, relinearise, 1));
+    const double step = (dense.x() - b.prior.x()).norm(), shrunk = (b.prior.P() - dense.P()).norm();
+    // As above, S's spread rounds both factorisations to about 1e-4 of the step.
+    EXPECT_LT((shared.x() - dense.x()).norm(), 1e-3 * step) << "readout " << readout;
+    EXPECT_LT((shared.P() - dense.P()).norm(), 1e-3 * shrunk) << "readout " << readout;
+    // Taken for each corner's own noise, the shift moves the camera (and the velocities) further.
+    EXPECT_GT((independent.x() - dense.x()).norm(), 20 * (shared.x() - dense.x()).norm()) << "readout " << readout;
+  }
+}
+
 TEST(EkfUpdate, IteratedUpdateRefusesAnIndefiniteCameraCovariance) {
   BoardReturn b;
   b.prior.P().topLeftCorner<3, 3>() = -1e-2 * Mat3::Identity();

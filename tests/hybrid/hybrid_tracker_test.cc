@@ -374,6 +374,41 @@ TEST(HybridTracker, DefaultsBeatCslamWithTheBoardInView) {
   }
 }
 
+// tv1 through a long exposure (`synth --blur 3`: the shutter open the whole frame, 80 frames): the
+// corners share the shift of an accelerating image's exposure (hybrid/exposure_shift.h), which
+// the filter's own noise cannot hold. With the shift's covariance the NEES is near its bounds,
+// without it (max_exposure 0) many times over; the error is the same.
+TEST(HybridTracker, MotionBlurredCornersShareTheExposuresShift) {
+  TempDir dir;
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = 80;
+  synth.supersample = 2;
+  synth.blur = 3;
+  const std::string sequence = dir.file("sequence");
+  writeSyntheticSequence(synth, sequence);
+  const auto summary = [&](const std::string& name, const std::string& extra) -> nlohmann::json {
+    const std::string out = dir.file(name);
+    const test::CommandResult r =
+        test::runSlamcmp("run --backend hybrid --sequence '" + sequence + "' --out '" + out + "'" + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    if (r.exit_code != 0) return nlohmann::json::object();
+    std::ifstream in(out + "/summary.json");
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json shared = summary("shared", "");
+  const nlohmann::json own = summary("own", " --set hybrid.corners.exposure.max_exposure=0");
+  if (shared.empty() || own.empty()) return;
+  const double nees_shared = shared["nees"]["mean"], nees_own = own["nees"]["mean"];
+  const double ate_shared = shared["ate"]["trans"]["rmse"], ate_own = own["ate"]["trans"]["rmse"];
+  std::printf("blurred tv1: NEES %.1f with the shared shift, %.1f without (bounds %.2f-%.2f); ATE %.4f / %.4f mm\n",
+              nees_shared, nees_own, static_cast<double>(shared["nees"]["lower"]),
+              static_cast<double>(shared["nees"]["upper"]), 1e3 * ate_shared, 1e3 * ate_own);
+  EXPECT_LT(nees_shared, 15.0);
+  EXPECT_GT(nees_own, 4 * nees_shared);
+  EXPECT_NEAR(ate_shared, ate_own, 0.05 * ate_own);
+}
+
 // roll_distortion, 100 frames: up to 110 degrees of roll through a strong lens, the board always in
 // view (measured 0.084 mm, 0.075 without the tracks; cslam 0.24 mm). The lens bends the squares'
 // edges; with the corners refined as if they were straight in the image the board looked 7e-5

@@ -1,0 +1,100 @@
+#include "hybrid/exposure_shift.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "core/error.h"
+#include "hybrid/edge_width.h"
+
+namespace slamcmp {
+
+void ExposureShiftOptions::check() const {
+  if (!(max_exposure >= 0 && max_exposure <= 1)) throw OptionError("max_exposure", "must be in [0, 1]");
+  if (min_corners < 1) throw OptionError("min_corners", "must be >= 1");
+}
+
+const cv::Point2f* ExposureShift::CornerFrame::find(int id) const {
+  const auto it = std::find(ids.begin(), ids.end(), id);
+  return it == ids.end() ? nullptr : &uv[static_cast<size_t>(it - ids.begin())];
+}
+
+double ExposureShift::exposure() const {
+  if (n_ < 3) return 0;
+  const double vxx = sxx_ - sx_ * sx_ / n_, vxy = sxy_ - sx_ * sy_ / n_, vyy = syy_ - sy_ * sy_ / n_;
+  if (!(vxx > 0)) return 0;  // the board has not moved across its edges unevenly yet
+  const double slope = vxy / vxx;
+  const double standard_error = std::sqrt(std::max(0.0, (vyy - slope * vxy) / (n_ - 2)) / vxx);
+  return std::sqrt(std::clamp(slope - 2 * standard_error, 0.0, options_.max_exposure * options_.max_exposure));
+}
+
+void ExposureShift::measureEdges(const cv::Mat& grey, int cols, const CornerFrame& first, const CornerFrame& last,
+                                 const CornerFrame& now) {
+  // A corner's motion over this frame (pixels a frame): the second-order backward difference, the
+  // velocity at the frame's time where the last step alone lags by half the acceleration.
+  const auto motion = [&](size_t k) -> std::optional<Vec2> {
+    const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
+    if (!u1 || !u0) return std::nullopt;
+    const cv::Point2f v = 1.5f * now.uv[k] - 2.0f * *u1 + 0.5f * *u0;
+    return Vec2(v.x, v.y);
+  };
+  for (size_t k = 0; k < now.ids.size(); ++k) {
+    const int id = now.ids[k];
+    const std::optional<Vec2> a_moved = motion(k);
+    if (!a_moved) continue;
+    // The edges to the next corner along the row and along the column.
+    for (const int other : {id % cols + 1 < cols ? id + 1 : -1, id + cols}) {
+      const auto it = other < 0 ? now.ids.end() : std::find(now.ids.begin(), now.ids.end(), other);
+      if (it == now.ids.end()) continue;
+      const size_t j = static_cast<size_t>(it - now.ids.begin());
+      const std::optional<Vec2> b_moved = motion(j);
+      if (!b_moved) continue;
+      const Vec2 a_uv(now.uv[k].x, now.uv[k].y), b_uv(now.uv[j].x, now.uv[j].y);
+      const Vec2 along = b_uv - a_uv;
+      const double length = along.norm();
+      if (!(length > 4)) continue;
+      const Vec2 normal(-along.y() / length, along.x() / length);
+      // Halfway between the corners the edge is a step between two squares, a quarter square or
+      // more from either junction.
+      const auto spread = edgeSpread(grey, 0.5 * (a_uv + b_uv), normal, std::min(0.3 * length, 8.0));
+      if (!spread) continue;
+      const double across = normal.dot(0.5 * (*a_moved + *b_moved));
+      const double x = across * across / 12.0;
+      n_ += 1;
+      sx_ += x;
+      sy_ += *spread;
+      sxx_ += x * x;
+      sxy_ += x * *spread;
+      syy_ += *spread * *spread;
+    }
+  }
+}
+
+void ExposureShift::addFrame(double timestamp, const cv::Mat& grey, int cols, const std::vector<int>& ids,
+                             const std::vector<cv::Point2f>& uv) {
+  frames_.push_back({timestamp, ids, uv});
+  if (frames_.size() > 3) frames_.erase(frames_.begin());
+  covariance_.setZero();
+  if (options_.max_exposure <= 0 || frames_.size() < 3) return;
+  const CornerFrame &first = frames_[0], &last = frames_[1], &now = frames_[2];
+  const double dt1 = last.timestamp - first.timestamp, dt2 = now.timestamp - last.timestamp;
+  // Frames in a row: over a skipped frame (a step 1.5 times the other or more) neither the motion
+  // nor the acceleration is a frame's.
+  if (!(dt1 > 0 && dt2 > 0) || std::max(dt1, dt2) > 1.5 * std::min(dt1, dt2)) return;
+  measureEdges(grey, cols, first, last, now);
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (size_t k = 0; k < now.ids.size(); ++k) {
+    const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
+    if (!u1 || !u0) continue;
+    const cv::Point2f v2 = (now.uv[k] - *u1) / dt2, v1 = (*u1 - *u0) / dt1;  // pixels/s
+    sum += Vec2(v2.x - v1.x, v2.y - v1.y) * (2.0 / (dt1 + dt2));
+    ++n;
+  }
+  if (n < options_.min_corners) return;
+  const double exposure_s = exposure() * dt2;
+  const double sigma = exposure_s * exposure_s / 24.0 * (sum / n).norm();
+  covariance_ = Mat2::Identity() * sigma * sigma;
+}
+
+}  // namespace slamcmp
