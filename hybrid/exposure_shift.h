@@ -12,13 +12,12 @@
 // estimated from the board's edges, which widen across themselves by (e v.n)^2 / 12 (pixels^2;
 // hybrid/edge_width.h) when the image moves v pixels a frame. Over the run the edges' spread is
 // fitted as s0 + e^2 (v.n)^2 / 12 by least squares, and e^2 taken at the fit's lower bound (the
-// slope less two standard errors, within [0, max_exposure^2]): no shift until the edges show a
-// blur beyond doubt, so that an unblurred run is as it was, byte for byte. On tv1's first 120
-// frames rendered with `--blur 3` (the shutter open the whole frame) e is 0.95 from the third
-// frame, 0.91 from the tenth; unblurred and with noise (2 grey levels) 0 throughout, where the
-// fit itself gives 0.03-0.09 (the edges' spread varies by a hundredth of a pixel^2 with where they
-// fall between pixels) and its upper bound 0.13 (either moved unblurred runs: wall_turn seed 51's
-// ATE 0.62 -> 0.71 mm, seed 9's gap 0.9998 -> 1.003 of its allowance).
+// slope less two standard errors, counted over the frames fitted, within [0, max_exposure^2]):
+// no shift until the edges show a blur beyond doubt, so that an unblurred run stays as it was. On tv1's first 120 frames rendered with `--blur 3` (the shutter open the whole frame) e is
+// 0.91-0.95; unblurred, and with noise (2 grey levels), 0 throughout, where the fit itself gives
+// 0.03-0.09 (the edges' spread varies by a hundredth of a pixel^2 with where they fall between
+// pixels) and its upper bound 0.13 (either moved unblurred runs: wall_turn seed 51's ATE 0.62 ->
+// 0.71 mm, seed 9's gap 0.9998 -> 1.003 of its allowance).
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -69,6 +68,7 @@ class ExposureShift {
   Mat2 covariance_ = Mat2::Zero();
   // The least-squares sums of spread y against x = (v.n)^2 / 12 over every edge measured.
   double n_ = 0, sx_ = 0, sy_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0;
+  int frames_fitted_ = 0;  // frames whose edges are in those sums
 };
 
 }  // namespace slamcmp

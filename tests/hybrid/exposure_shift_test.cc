@@ -95,9 +95,11 @@ TEST(ExposureShift, RecoversTheExposureAndTheShiftOfAnAcceleratingBoard) {
       board.corners(t, &ids, &uv);
       shift.addFrame(0.1 * t, board.frame(t, exposure), MovingBoard::kCols, ids, uv);
     }
-    // Within 0.02 in e^2: the fit's lower bound, and the edges' spread also varies by a hundredth
-    // of a pixel^2 with where they fall between pixels.
-    EXPECT_NEAR(shift.exposure() * shift.exposure(), exposure * exposure, 0.02) << "exposure " << exposure;
+    // The fit's lower bound over six frames' edges: within 0.05 under e^2, and 0.02 over it (the
+    // edges' spread also varies by a hundredth of a pixel^2 with where they fall between pixels).
+    const double e2 = shift.exposure() * shift.exposure();
+    EXPECT_GT(e2, exposure * exposure - 0.05) << "exposure " << exposure;
+    EXPECT_LT(e2, exposure * exposure + 0.02) << "exposure " << exposure;
     // The shared shift's std: (e dt)^2 / 24 |a|, a = accel pixels a frame^2.
     const double e = shift.exposure();
     const double expected = e * e / 24 * board.accel.norm();
