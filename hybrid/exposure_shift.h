@@ -68,7 +68,8 @@ class ExposureShift {
   Mat2 covariance_ = Mat2::Zero();
   // The least-squares sums of spread y against x = (v.n)^2 / 12 over every edge measured.
   double n_ = 0, sx_ = 0, sy_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0;
-  int frames_fitted_ = 0;  // frames whose edges are in those sums
+  int frames_fitted_ = 0;    // frames whose edges are in those sums
+  int frames_since_fit_ = 0;  // frames in a row since the last whose edges were fitted
 };
 
 }  // namespace slamcmp
