@@ -196,7 +196,8 @@ void finishIteratedUpdate(EkfState& state, const Eigen::MatrixXd& W, Eigen::Vect
   relinearise(state.x(), observations);  // h where it can be predicted
 }
 
-// Known points alone (the board's corners): H = [H_c 0] with H_c over (r, q), and R = s^2 I. With
+// Known points alone (the board's corners): H = [H_c 0] with H_c over (r, q), and R = s^2 I (with a
+// shared shift, R = s^2 I + J C J^T: H_c and nu are whitened by s R^-1/2, and all below holds). With
 // G^T G = H_c^T H_c (G 7 x 7, from the eigen-decomposition; rank 6, q's length is unobserved) the
 // push-through identity gives H_c^T S^-1 H_c = G^T N^-1 G and K nu = P_c G^T N^-1 G^-T H_c^T nu,
 // with N = G P_cc G^T + s^2 I (P_c: P's (r, q) columns, P_cc their 7 x 7 top). N and S have the

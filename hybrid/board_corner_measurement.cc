@@ -343,7 +343,7 @@ BoardCornerMeasurement BoardCornerMeasurer::measureNew(const EkfState& state, co
   return out;
 }
 
-bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) const {
+bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) {
   const Relinearise predict_at = [&](const Eigen::VectorXd& x, std::vector<PointObservation>* observations) {
     for (size_t k = 0; k < observations->size(); ++k)
       if (!predictAtRowTime(camera_, readout_, x.head<13>(), corners_world_[m->corner_ids[k]], &(*observations)[k].h,
@@ -351,7 +351,11 @@ bool BoardCornerMeasurer::update(EkfState& state, BoardCornerMeasurement* m) con
         return false;
     return true;
   };
-  return iteratedUpdate(state, &m->observations, PointNoise(pixelSigma(), exposure_.covariance()), predict_at);
+  // Counted again as a new shift, the frame's one would give the filter its information twice.
+  constexpr double kSpent = 1e6;
+  const Mat2 shared = shift_spent_ ? kSpent * exposure_.covariance() : exposure_.covariance();
+  shift_spent_ = shift_spent_ || !shared.isZero(0);
+  return iteratedUpdate(state, &m->observations, PointNoise(pixelSigma(), shared), predict_at);
 }
 
 void BoardCornerMeasurer::use(int id, const Vec2& z, const PointMeasurement& h, BoardCornerMeasurement* out) {

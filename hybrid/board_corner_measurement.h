@@ -126,15 +126,22 @@ class BoardCornerMeasurer {
                                          const std::vector<cv::Point2f>& uv_distorted);
   // The filter updated with `m`'s corners, iterated to convergence (ekf_update.h: a board found
   // again after a drift is far from the prior); m's predictions then are the updated state's.
-  bool update(EkfState& state, BoardCornerMeasurement* m) const;
+  // The shift a blurred frame's corners share is one per frame: a second update in the frame (the
+  // corners entering the view) takes their common part as spent, discarded.
+  bool update(EkfState& state, BoardCornerMeasurement* m);
   // Forget the tracked corners (a restart).
   void reset();
+  // The filter restarted from the board: the corners' last frames tell no acceleration (a
+  // symmetric board's ids may have turned).
+  void restart() {
+    reset();
+    exposure_.forgetFrames();
+  }
   // The frame's board measurements are done: its corners kept go to the exposure shift's history.
   void endFrame(double timestamp, const cv::Mat& grey) {
     exposure_.addFrame(timestamp, grey, target_.cols, tracked_ids_, tracked_uv_);
+    shift_spent_ = false;
   }
-  // The exposure the shared shift assumes, over the frame interval (ExposureShift::exposure).
-  double exposure() const { return exposure_.exposure(); }
   // With a rolling shutter, the motion noise of this frame's prediction: the corners' noise is then
   // at least rollingShutterPixelSigma's (their rows' times predicted under constant velocities).
   void setMotionNoise(const MotionModelOptions& motion);
@@ -194,6 +201,7 @@ class BoardCornerMeasurer {
   std::vector<cv::Point2f> outside_gates_;  // boardOutsideGates()
   CornerNoise noise_;
   ExposureShift exposure_;  // the shared shift's covariance, from the last three frames' corners
+  bool shift_spent_ = false;  // an update of this frame has held the shared shift
   PresenceGatedDetector detector_;  // the board searches; learns from every view of the whole board
 };
 

@@ -9,6 +9,7 @@ namespace slamcmp {
 
 std::optional<double> edgeSpread(const cv::Mat& grey, const Vec2& at, const Vec2& normal, double half_length,
                                  double min_step) {
+  CV_Assert(grey.type() == CV_8UC1);
   constexpr double kStep = 0.5;  // pixels between samples along the normal
   const Vec2 n = normal.normalized();
   const int half = static_cast<int>(half_length / kStep);
@@ -32,6 +33,7 @@ std::optional<double> edgeSpread(const cv::Mat& grey, const Vec2& at, const Vec2
     t_sum += w * t;
     tt_sum += w * t * t;
   }
+  if (!(w_sum > 0)) return std::nullopt;
   const double mean = t_sum / w_sum;
   return tt_sum / w_sum - mean * mean;
 }

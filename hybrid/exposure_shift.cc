@@ -22,23 +22,28 @@ const cv::Point2f* ExposureShift::CornerFrame::find(int id) const {
 double ExposureShift::exposure() const {
   if (frames_fitted_ < 2 || n_ < 3) return 0;  // a slope needs two motions
   const double vxx = sxx_ - sx_ * sx_ / n_, vxy = sxy_ - sx_ * sy_ / n_, vyy = syy_ - sy_ * sy_ / n_;
-  if (!(vxx > 0)) return 0;  // the board has not moved across its edges unevenly yet
+  if (!(vxx > 1e-12 * sxx_)) return 0;  // the board has not moved across its edges unevenly yet
   const double slope = vxy / vxx;
   // A frame's edges share its motion and much of their error: its standard error counted over
-  // frames, not edges (one frame's alone put wall_turn seed 7's unblurred start at 0.57).
+  // frames, not edges (one frame's alone put wall_turn seed 7's unblurred start at 0.57 of its
+  // frame interval).
   const double standard_error = std::sqrt(std::max(0.0, (vyy - slope * vxy) / (n_ - 2)) / vxx * n_ / frames_fitted_);
-  return std::sqrt(std::clamp(slope - 2 * standard_error, 0.0, options_.max_exposure * options_.max_exposure));
+  return std::sqrt(std::max(0.0, slope - 2 * standard_error));
 }
 
 void ExposureShift::measureEdges(const cv::Mat& grey, int cols, const CornerFrame& first, const CornerFrame& last,
                                  const CornerFrame& now) {
-  // A corner's motion over this frame (pixels a frame): the second-order backward difference, the
-  // velocity at the frame's time where the last step alone lags by half the acceleration.
+  // A corner's velocity at this frame's time (pixels/s): the second-order backward difference
+  // over uneven steps h1, h2 (the last step alone lags by half the acceleration).
+  CV_Assert(cols > 0);
+  const double h1 = last.timestamp - first.timestamp, h2 = now.timestamp - last.timestamp;
+  const double c_now = (2 * h2 + h1) / (h2 * (h1 + h2)), c_last = -(h1 + h2) / (h1 * h2),
+               c_first = h2 / (h1 * (h1 + h2));
   const auto motion = [&](size_t k) -> std::optional<Vec2> {
     const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
     if (!u1 || !u0) return std::nullopt;
-    const cv::Point2f v = 1.5f * now.uv[k] - 2.0f * *u1 + 0.5f * *u0;
-    return Vec2(v.x, v.y);
+    return Vec2(c_now * now.uv[k].x + c_last * u1->x + c_first * u0->x,
+                c_now * now.uv[k].y + c_last * u1->y + c_first * u0->y);
   };
   for (size_t k = 0; k < now.ids.size(); ++k) {
     const int id = now.ids[k];
@@ -80,8 +85,8 @@ void ExposureShift::addFrame(double timestamp, const cv::Mat& grey, int cols, co
   if (options_.max_exposure <= 0 || frames_.size() < 3) return;
   const CornerFrame &first = frames_[0], &last = frames_[1], &now = frames_[2];
   const double dt1 = last.timestamp - first.timestamp, dt2 = now.timestamp - last.timestamp;
-  // Frames in a row: over a skipped frame (a step 1.5 times the other or more) neither the motion
-  // nor the acceleration is a frame's.
+  // Frames in a row: over a skipped frame (a step more than 1.5 times the other) neither the
+  // motion nor the acceleration is a frame's.
   if (!(dt1 > 0 && dt2 > 0) || std::max(dt1, dt2) > 1.5 * std::min(dt1, dt2)) return;
   // The exposure is the camera's: once the fit holds kSettledFrames frames, one frame in
   // kSettledInterval adds to it (the edges cost 0.06 ms a frame, a twentieth of hybrid's).
@@ -102,7 +107,7 @@ void ExposureShift::addFrame(double timestamp, const cv::Mat& grey, int cols, co
     ++n;
   }
   if (n < options_.min_corners) return;
-  const double exposure_s = exposure() * dt2;
+  const double exposure_s = std::min(exposure(), options_.max_exposure * dt2);
   const double sigma = exposure_s * exposure_s / 24.0 * (sum / n).norm();
   covariance_ = Mat2::Identity() * sigma * sigma;
 }

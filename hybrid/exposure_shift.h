@@ -8,16 +8,22 @@
 // unblurred render scores 2.5).
 //
 // The shift's covariance for the next frame is (T^2 / 24 |a|)^2 per axis, a measured from the
-// corners kept in the last three frames. T is the exposure: a fraction e of the frame interval
-// estimated from the board's edges, which widen across themselves by (e v.n)^2 / 12 (pixels^2;
-// hybrid/edge_width.h) when the image moves v pixels a frame. Over the run the edges' spread is
-// fitted as s0 + e^2 (v.n)^2 / 12 by least squares, and e^2 taken at the fit's lower bound (the
-// slope less two standard errors, counted over the frames fitted, within [0, max_exposure^2]):
-// no shift until the edges show a blur beyond doubt, so that an unblurred run stays as it was. On tv1's first 120 frames rendered with `--blur 3` (the shutter open the whole frame) e is
-// 0.91-0.95; unblurred, and with noise (2 grey levels), 0 throughout, where the fit itself gives
-// 0.03-0.09 (the edges' spread varies by a hundredth of a pixel^2 with where they fall between
-// pixels) and its upper bound 0.13 (either moved unblurred runs: wall_turn seed 51's ATE 0.62 ->
-// 0.71 mm, seed 9's gap 0.9998 -> 1.003 of its allowance).
+// corners kept in the last three frames. T is the exposure (seconds, at most max_exposure of the
+// frame interval), estimated from the board's edges, which widen across themselves by
+// (T v.n)^2 / 12 (pixels^2; hybrid/edge_width.h) when the image moves at v pixels/s. Over the run
+// the edges' spread is fitted as s0 + T^2 (v.n)^2 / 12 by least squares, and T^2 taken at the
+// fit's lower bound (the slope less two standard errors, counted over the frames fitted): no
+// shift until the edges show a blur beyond doubt, so that an unblurred run stays as it was. In
+// seconds, not frames: frame times that jitter leave a shutter's time as it is. On tv1's first
+// 120 frames rendered with `--blur 3` (the shutter open the whole frame) T is 0.91-0.95 of the
+// frame interval; unblurred, and with noise (2 grey levels), 0 throughout, where the fit itself
+// gives 0.03-0.09 of it (the edges' spread varies by a hundredth of a pixel^2 with where they
+// fall between pixels) and its upper bound 0.13 (either moved unblurred runs: wall_turn seed 51's
+// ATE 0.62 -> 0.71 mm, seed 9's gap 0.9998 -> 1.003 of its allowance).
+//
+// Only the corners' mean acceleration is held, the image's translation: a roll or a change of
+// scale accelerates the corners apart, and their shifts (each T^2 / 24 of its own acceleration)
+// then cancel in the mean though each is there.
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -50,7 +56,12 @@ class ExposureShift {
   // The covariance (pixels^2) of the shift every corner of the next frame shares: zero until three
   // evenly spaced frames have measured the same corners.
   const Mat2& covariance() const { return covariance_; }
-  // The exposure over the frame interval now assumed (the fit's lower bound).
+  // Forgets the last frames' corners (a restart), not the exposure fitted so far.
+  void forgetFrames() {
+    frames_.clear();
+    covariance_.setZero();
+  }
+  // The exposure fitted so far, seconds (its lower bound; 0 before the edges show a blur).
   double exposure() const;
 
  private:
@@ -66,7 +77,8 @@ class ExposureShift {
   ExposureShiftOptions options_;
   std::vector<CornerFrame> frames_;  // the last three, oldest first
   Mat2 covariance_ = Mat2::Zero();
-  // The least-squares sums of spread y against x = (v.n)^2 / 12 over every edge measured.
+  // The least-squares sums of spread y (pixels^2) against x = (v.n)^2 / 12 (v in pixels/s) over
+  // every edge fitted.
   double n_ = 0, sx_ = 0, sy_ = 0, sxx_ = 0, sxy_ = 0, syy_ = 0;
   int frames_fitted_ = 0;    // frames whose edges are in those sums
   int frames_since_fit_ = 0;  // frames in a row since the last whose edges were fitted

@@ -108,7 +108,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
       Vec4::Constant(s.orientation_sigma * s.orientation_sigma), Vec3::Constant(s.velocity_sigma * s.velocity_sigma),
       Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
   slam_->reset(board_pose.T_camera_board.inverse(), P0);
-  corners_->reset();
+  corners_->restart();
   motion_->reset(slam_->state());
   *board = corners_->measureDetected(slam_->state(), frame.grey, uv);
   if (board->observations.empty() || !corners_->update(slam_->state(), board))
@@ -174,6 +174,10 @@ FrameResult HybridTracker::track(const Frame& frame) {
   if (!running_) {
     std::string reason;
     if (!start(frame, &board, &reason)) {
+      if (corners_) {  // no corner kept this frame: the exposure's history says so
+        corners_->reset();
+        corners_->endFrame(frame.timestamp, frame.grey);
+      }
       result.status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
       result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
       return result;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <stdexcept>
 
 #include <Eigen/Cholesky>
 
@@ -63,7 +64,7 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     T_gt_estimate.t = gt.t() - fitted.scale * (T_gt_estimate.R * est.t());
   }
   NeesResult r;
-  double sum = 0;
+  double sum = 0, position_sum = 0, orientation_sum = 0;
   for (size_t k = 0; k < pairs.size(); ++k) {
     if (k == first) continue;
     const SE3& gt = groundtruth[pairs.groundtruth[k]].T_world_camera;
@@ -86,8 +87,8 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     r.per_frame.push_back({est.timestamp, nees});
     r.per_frame_parts.push_back(parts);
     sum += nees;
-    r.position.mean += parts.position;
-    r.orientation.mean += parts.orientation;
+    position_sum += parts.position;
+    orientation_sum += parts.orientation;
   }
   const int n = r.frames();
   if (n == 0) return std::nullopt;
@@ -99,8 +100,8 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   r.mean = whole.mean;
   r.lower = whole.lower;
   r.upper = whole.upper;
-  r.position = bounded(r.position.mean, 3);
-  r.orientation = bounded(r.orientation.mean, 3);
+  r.position = bounded(position_sum, 3);
+  r.orientation = bounded(orientation_sum, 3);
   return r;
 }
 
@@ -115,6 +116,7 @@ nlohmann::json neesToJson(const NeesResult& nees) {
 }
 
 void writeNeesCsv(const std::string& path, const NeesResult& nees) {
+  if (nees.per_frame_parts.size() != nees.per_frame.size()) throw std::logic_error("nees.csv: a part per pose");
   std::ofstream out(path);
   if (!out) throw InputError(path, "cannot be written");
   out << "timestamp,nees,position,orientation\n" << std::setprecision(17);
@@ -130,7 +132,8 @@ std::vector<TimedNees> readNeesCsv(const std::string& path) {
   if (std::getline(in, line) && !line.empty() && line.back() == '\r') line.pop_back();
   const char* const kEarlier = "timestamp,nees";  // before the parts were written
   const char* const kHeader = "timestamp,nees,position,orientation";
-  if (line != kEarlier && line != kHeader) throw InputError(atLine(path, 1), std::string("header is not ") + kHeader);
+  if (line != kEarlier && line != kHeader)
+    throw InputError(atLine(path, 1), std::string("header is not ") + kHeader + " (or an earlier " + kEarlier + ")");
   const std::vector<const char*> fields = line == kHeader ? std::vector<const char*>{"timestamp", "nees", "position", "orientation"}
                                                           : std::vector<const char*>{"timestamp", "nees"};
   std::vector<TimedNees> rows;

@@ -306,8 +306,6 @@ TEST(EkfUpdate, RowTimedMapPointBesideAFrameTimeOneIsTheDenseFormula) {
   EXPECT_LT((s.P() - expected.P()).norm(), 1e-9 * b.prior.P().norm());
 }
 
-// A camera covariance broken by round-off (negative position variances) makes S indefinite: the
-// iterated update of known points refuses it as the batch update does, and leaves the state.
 // A shift every point shares (a motion-blurred frame's, hybrid/exposure_shift.h): one iteration is
 // kalmanUpdate's dense formula with R = sigma^2 I + J C J^T (J stacks m 2 x 2 identities), in the
 // camera-only form (board corners at the frame's time) and in the dense one (at their rows'
@@ -350,6 +348,8 @@ TEST(EkfUpdate, ASharedShiftIsTheDenseFormulaWithItsCorrelatedNoise) {
   }
 }
 
+// A camera covariance broken by round-off (negative position variances) makes S indefinite: the
+// iterated update of known points refuses it as the batch update does, and leaves the state.
 TEST(EkfUpdate, IteratedUpdateRefusesAnIndefiniteCameraCovariance) {
   BoardReturn b;
   b.prior.P().topLeftCorner<3, 3>() = -1e-2 * Mat3::Identity();

@@ -50,8 +50,8 @@ TEST(EdgeSpread, GrowsByTheSquareOfTheStreakOverTwelve) {
 }
 
 // A chessboard of 7 x 5 inner corners, 24 px squares, its top-left inner corner at `origin`,
-// rendered as the mean over the exposure (64 instants, each through a 0.7 px blur) while it moves
-// at `velocity` pixels a frame and accelerates at `accel` pixels a frame^2.
+// rendered as the mean over the exposure (16 instants, each through a 0.7 px blur) while it moves
+// at `velocity` pixels a frame and accelerates at `accel` pixels a frame^2; t in frames.
 struct MovingBoard {
   static constexpr int kCols = 7, kRows = 5;
   static constexpr double kSquare = 24;
@@ -62,7 +62,7 @@ struct MovingBoard {
     const auto wave = [](double x) { return std::tanh(std::sin(M_PI * x / kSquare) * kSquare / (M_PI * 0.7 * 1.6)); };
     return 125 + 100 * wave(p.x() - origin.x()) * wave(p.y() - origin.y());
   }
-  cv::Mat frame(int t, double exposure) const {
+  cv::Mat frame(double t, double exposure) const {
     cv::Mat grey(260, 320, CV_8UC1);
     for (int v = 0; v < grey.rows; ++v)
       for (int u = 0; u < grey.cols; ++u) {
@@ -72,7 +72,7 @@ struct MovingBoard {
       }
     return grey;
   }
-  void corners(int t, std::vector<int>* ids, std::vector<cv::Point2f>* uv) const {
+  void corners(double t, std::vector<int>* ids, std::vector<cv::Point2f>* uv) const {
     ids->clear();
     uv->clear();
     const Vec2 o = originAt(t);
@@ -82,62 +82,78 @@ struct MovingBoard {
         uv->emplace_back(static_cast<float>(o.x() + i * kSquare), static_cast<float>(o.y() + j * kSquare));
       }
   }
+  // Frames t = 0..frames-1 (at 10 Hz; `jitter` frames early or late, alternately) into `shift`.
+  void feed(ExposureShift& shift, int frames, double exposure, double jitter = 0) const {
+    std::vector<int> ids;
+    std::vector<cv::Point2f> uv;
+    for (int k = 0; k < frames; ++k) {
+      const double t = k + (k % 2 ? jitter : -jitter);
+      corners(t, &ids, &uv);
+      shift.addFrame(0.1 * t, frame(t, exposure), kCols, ids, uv);
+    }
+  }
 };
 
 TEST(ExposureShift, RecoversTheExposureAndTheShiftOfAnAcceleratingBoard) {
   const MovingBoard board;
-  for (const double exposure : {0.0, 0.5, 0.9}) {
-    ExposureShiftOptions options;
-    ExposureShift shift(options);
-    std::vector<int> ids;
-    std::vector<cv::Point2f> uv;
-    for (int t = 0; t < 8; ++t) {
-      board.corners(t, &ids, &uv);
-      shift.addFrame(0.1 * t, board.frame(t, exposure), MovingBoard::kCols, ids, uv);
+  for (const double jitter : {0.0, 0.08})
+    for (const double exposure : {0.0, 0.5, 0.9}) {
+      ExposureShift shift{ExposureShiftOptions()};
+      board.feed(shift, 8, exposure, jitter);
+      // The fit's lower bound over six frames' edges, in frames (0.1 s): within 0.05 under e^2
+      // and 0.02 over it (the edges' spread also varies by a hundredth of a pixel^2 with where
+      // they fall between pixels); none without a blur. With steps of 0.084 and 0.116 s alternately
+      // the exposure is the shutter's time all the same.
+      const double e = shift.exposure() / 0.1;
+      if (exposure == 0) {
+        EXPECT_EQ(e, 0) << "jitter " << jitter;
+      }
+      EXPECT_GT(e * e, exposure * exposure - 0.05) << "exposure " << exposure << ", jitter " << jitter;
+      EXPECT_LT(e * e, exposure * exposure + 0.02) << "exposure " << exposure << ", jitter " << jitter;
+      // The shared shift's std: T^2 / 24 |a|, a = accel pixels a frame^2 = 100 accel pixels/s^2.
+      if (jitter == 0) {
+        const double expected = 0.01 * e * e / 24 * 100 * board.accel.norm();
+        EXPECT_NEAR(std::sqrt(shift.covariance()(0, 0)), expected, 1e-6 + 0.01 * expected) << "exposure " << exposure;
+        EXPECT_EQ(shift.covariance()(0, 1), 0);
+      }
     }
-    // The fit's lower bound over six frames' edges: within 0.05 under e^2, and 0.02 over it (the
-    // edges' spread also varies by a hundredth of a pixel^2 with where they fall between pixels).
-    const double e2 = shift.exposure() * shift.exposure();
-    EXPECT_GT(e2, exposure * exposure - 0.05) << "exposure " << exposure;
-    EXPECT_LT(e2, exposure * exposure + 0.02) << "exposure " << exposure;
-    // The shared shift's std: (e dt)^2 / 24 |a|, a = accel pixels a frame^2.
-    const double e = shift.exposure();
-    const double expected = e * e / 24 * board.accel.norm();
-    EXPECT_NEAR(std::sqrt(shift.covariance()(0, 0)), expected, 1e-6 + 0.01 * expected) << "exposure " << exposure;
-    EXPECT_EQ(shift.covariance()(0, 1), 0);
-  }
 }
 
-// The shift is a frame's: none over a skipped frame, none until three frames measured the
-// corners, none without the board, and none at max_exposure 0.
+// The shift is a frame's: none over a skipped frame, none without the board, none after a
+// restart until three frames measured the corners again, and none at max_exposure 0.
 TEST(ExposureShift, NeedsThreeFramesInARow) {
   const MovingBoard board;
-  const cv::Mat grey = board.frame(0, 0.5);
-  std::vector<int> ids;
-  std::vector<cv::Point2f> uv;
   ExposureShift shift{ExposureShiftOptions()};
   EXPECT_EQ(shift.exposure(), 0.0);  // no shift until the edges show a blur
-  board.corners(0, &ids, &uv);
-  shift.addFrame(0.0, grey, MovingBoard::kCols, ids, uv);
-  board.corners(1, &ids, &uv);
-  shift.addFrame(0.1, grey, MovingBoard::kCols, ids, uv);
+  board.feed(shift, 8, 0.9);
+  ASSERT_GT(shift.exposure(), 0.08);
+  ASSERT_FALSE(shift.covariance().isZero());
+  std::vector<int> ids;
+  std::vector<cv::Point2f> uv;
+  const auto add = [&](int t, bool with_board) {
+    board.corners(t, &ids, &uv);
+    if (!with_board) ids.clear(), uv.clear();
+    shift.addFrame(0.1 * t, board.frame(t, 0.9), MovingBoard::kCols, ids, uv);
+  };
+  add(9, true);  // frame 8 skipped
   EXPECT_TRUE(shift.covariance().isZero());
-  board.corners(3, &ids, &uv);
-  shift.addFrame(0.3, grey, MovingBoard::kCols, ids, uv);  // frame 2 skipped
+  add(10, false);  // no board
   EXPECT_TRUE(shift.covariance().isZero());
-  board.corners(4, &ids, &uv);
-  shift.addFrame(0.4, grey, MovingBoard::kCols, ids, uv);
-  shift.addFrame(0.5, grey, MovingBoard::kCols, {}, {});
+  add(11, true);
+  add(12, true);
+  EXPECT_TRUE(shift.covariance().isZero());  // frames 10-12: 10 had no board
+  add(13, true);
+  EXPECT_FALSE(shift.covariance().isZero());
+  shift.forgetFrames();
+  add(14, true);
   EXPECT_TRUE(shift.covariance().isZero());
+  EXPECT_GT(shift.exposure(), 0.08);  // the fit is the camera's: kept
+
   ExposureShiftOptions off;
   off.max_exposure = 0;
   ExposureShift none(off);
-  for (int t = 0; t < 4; ++t) {
-    board.corners(t, &ids, &uv);
-    none.addFrame(0.1 * t, grey, MovingBoard::kCols, ids, uv);
-  }
+  board.feed(none, 4, 0.9);
   EXPECT_TRUE(none.covariance().isZero());
-  EXPECT_EQ(none.exposure(), 0.0);
 }
 
 }  // namespace
