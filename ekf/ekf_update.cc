@@ -265,9 +265,10 @@ bool iteratedUpdate(EkfState& state, std::vector<PointObservation>* observations
   Eigen::MatrixXd W, S;
   Eigen::LLT<Eigen::MatrixXd> llt;
   const long m = static_cast<long>(observations->size());
+  const bool shared = !noise.shared.isZero(0);
   const auto correct = [&](const Eigen::VectorXd& nu, Eigen::VectorXd* x) {
     gainInnovation(state.P(), *observations, noise.sigma, &W, &S, nullptr);
-    for (long i = 0; i < m; ++i)  // + J C J^T, the lower triangle (all that is read)
+    for (long i = 0; shared && i < m; ++i)  // + J C J^T, the lower triangle (all that is read)
       for (long j = 0; j <= i; ++j) S.block<2, 2>(2 * i, 2 * j) += noise.shared;
     llt.compute(S.selfadjointView<Eigen::Lower>());
     if (llt.info() != Eigen::Success) return false;

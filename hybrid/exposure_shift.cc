@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "core/error.h"
 #include "hybrid/edge_width.h"
@@ -31,41 +30,45 @@ double ExposureShift::exposure() const {
   return std::sqrt(std::max(0.0, slope - 2 * standard_error));
 }
 
-void ExposureShift::measureEdges(const cv::Mat& grey, int cols, const CornerFrame& first, const CornerFrame& last,
-                                 const CornerFrame& now) {
-  // A corner's velocity at this frame's time (pixels/s): the second-order backward difference
-  // over uneven steps h1, h2 (the last step alone lags by half the acceleration).
-  CV_Assert(cols > 0);
+std::vector<ExposureShift::CornerMotion> ExposureShift::cornerMotions() const {
+  // Over uneven steps h1, h2: the velocity at this frame's time by the second-order backward
+  // difference (the last step alone lags by half the acceleration), the acceleration by the
+  // second divided difference; pixels/s and pixels/s^2.
+  const CornerFrame &first = frames_[0], &last = frames_[1], &now = frames_[2];
   const double h1 = last.timestamp - first.timestamp, h2 = now.timestamp - last.timestamp;
   const double c_now = (2 * h2 + h1) / (h2 * (h1 + h2)), c_last = -(h1 + h2) / (h1 * h2),
                c_first = h2 / (h1 * (h1 + h2));
-  const auto motion = [&](size_t k) -> std::optional<Vec2> {
-    const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
-    if (!u1 || !u0) return std::nullopt;
-    return Vec2(c_now * now.uv[k].x + c_last * u1->x + c_first * u0->x,
-                c_now * now.uv[k].y + c_last * u1->y + c_first * u0->y);
-  };
+  std::vector<CornerMotion> motions;
   for (size_t k = 0; k < now.ids.size(); ++k) {
-    const int id = now.ids[k];
-    const std::optional<Vec2> a_moved = motion(k);
-    if (!a_moved) continue;
+    const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
+    if (!u1 || !u0) continue;
+    const Vec2 p2(now.uv[k].x, now.uv[k].y), p1(u1->x, u1->y), p0(u0->x, u0->y);
+    motions.push_back({now.ids[k], p2, c_now * p2 + c_last * p1 + c_first * p0,
+                       ((p2 - p1) / h2 - (p1 - p0) / h1) * (2.0 / (h1 + h2))});
+  }
+  return motions;
+}
+
+void ExposureShift::measureEdges(const cv::Mat& grey, int cols, const std::vector<CornerMotion>& motions) {
+  CV_Assert(cols > 0);
+  int max_id = -1;
+  for (const CornerMotion& c : motions) max_id = std::max(max_id, c.id);
+  std::vector<int> motion_of(static_cast<size_t>(max_id + 1), -1);  // by corner id
+  for (size_t k = 0; k < motions.size(); ++k) motion_of[static_cast<size_t>(motions[k].id)] = static_cast<int>(k);
+  for (const CornerMotion& a : motions) {
     // The edges to the next corner along the row and along the column.
-    for (const int other : {id % cols + 1 < cols ? id + 1 : -1, id + cols}) {
-      const auto it = other < 0 ? now.ids.end() : std::find(now.ids.begin(), now.ids.end(), other);
-      if (it == now.ids.end()) continue;
-      const size_t j = static_cast<size_t>(it - now.ids.begin());
-      const std::optional<Vec2> b_moved = motion(j);
-      if (!b_moved) continue;
-      const Vec2 a_uv(now.uv[k].x, now.uv[k].y), b_uv(now.uv[j].x, now.uv[j].y);
-      const Vec2 along = b_uv - a_uv;
+    for (const int other : {a.id % cols + 1 < cols ? a.id + 1 : -1, a.id + cols}) {
+      if (other < 0 || other > max_id || motion_of[static_cast<size_t>(other)] < 0) continue;
+      const CornerMotion& b = motions[static_cast<size_t>(motion_of[static_cast<size_t>(other)])];
+      const Vec2 along = b.uv - a.uv;
       const double length = along.norm();
       if (!(length > 4)) continue;
       const Vec2 normal(-along.y() / length, along.x() / length);
       // Halfway between the corners the edge is a step between two squares, a quarter square or
       // more from either junction.
-      const auto spread = edgeSpread(grey, 0.5 * (a_uv + b_uv), normal, std::min(0.3 * length, 8.0));
+      const auto spread = edgeSpread(grey, 0.5 * (a.uv + b.uv), normal, std::min(0.3 * length, 8.0));
       if (!spread) continue;
-      const double across = normal.dot(0.5 * (*a_moved + *b_moved));
+      const double across = normal.dot(0.5 * (a.velocity + b.velocity));
       const double x = across * across / 12.0;
       n_ += 1;
       sx_ += x;
@@ -83,32 +86,26 @@ void ExposureShift::addFrame(double timestamp, const cv::Mat& grey, int cols, co
   if (frames_.size() > 3) frames_.erase(frames_.begin());
   covariance_.setZero();
   if (options_.max_exposure <= 0 || frames_.size() < 3) return;
-  const CornerFrame &first = frames_[0], &last = frames_[1], &now = frames_[2];
-  const double dt1 = last.timestamp - first.timestamp, dt2 = now.timestamp - last.timestamp;
+  const double dt1 = frames_[1].timestamp - frames_[0].timestamp, dt2 = frames_[2].timestamp - frames_[1].timestamp;
   // Frames in a row: over a skipped frame (a step more than 1.5 times the other) neither the
   // motion nor the acceleration is a frame's.
   if (!(dt1 > 0 && dt2 > 0) || std::max(dt1, dt2) > 1.5 * std::min(dt1, dt2)) return;
+  const std::vector<CornerMotion> motions = cornerMotions();
   // The exposure is the camera's: once the fit holds kSettledFrames frames, one frame in
   // kSettledInterval adds to it (the edges cost 0.06 ms a frame, a twentieth of hybrid's).
   constexpr int kSettledFrames = 30, kSettledInterval = 10;
   if (frames_fitted_ < kSettledFrames || ++frames_since_fit_ >= kSettledInterval) {
     frames_since_fit_ = 0;
     const double edges = n_;
-    measureEdges(grey, cols, first, last, now);
+    measureEdges(grey, cols, motions);
     if (n_ > edges) ++frames_fitted_;
   }
-  Vec2 sum = Vec2::Zero();
-  int n = 0;
-  for (size_t k = 0; k < now.ids.size(); ++k) {
-    const cv::Point2f *u1 = last.find(now.ids[k]), *u0 = first.find(now.ids[k]);
-    if (!u1 || !u0) continue;
-    const cv::Point2f v2 = (now.uv[k] - *u1) / dt2, v1 = (*u1 - *u0) / dt1;  // pixels/s
-    sum += Vec2(v2.x - v1.x, v2.y - v1.y) * (2.0 / (dt1 + dt2));
-    ++n;
-  }
-  if (n < options_.min_corners) return;
+  if (static_cast<int>(motions.size()) < options_.min_corners) return;
+  Vec2 acceleration = Vec2::Zero();
+  for (const CornerMotion& c : motions) acceleration += c.acceleration;
+  acceleration /= static_cast<double>(motions.size());
   const double exposure_s = std::min(exposure(), options_.max_exposure * dt2);
-  const double sigma = exposure_s * exposure_s / 24.0 * (sum / n).norm();
+  const double sigma = exposure_s * exposure_s / 24.0 * acceleration.norm();
   covariance_ = Mat2::Identity() * sigma * sigma;
 }
 

@@ -71,9 +71,14 @@ class ExposureShift {
     std::vector<cv::Point2f> uv;
     const cv::Point2f* find(int id) const;
   };
-  // Each edge between two corners kept in the last three frames: its spread against its motion.
-  void measureEdges(const cv::Mat& grey, int cols, const CornerFrame& first, const CornerFrame& last,
-                    const CornerFrame& now);
+  // A corner kept in the last three frames: where it is now, its velocity and acceleration.
+  struct CornerMotion {
+    int id = 0;
+    Vec2 uv, velocity, acceleration;
+  };
+  std::vector<CornerMotion> cornerMotions() const;  // of frames_, three in a row
+  // Each edge between two such corners: its spread against its motion across it.
+  void measureEdges(const cv::Mat& grey, int cols, const std::vector<CornerMotion>& motions);
   ExposureShiftOptions options_;
   std::vector<CornerFrame> frames_;  // the last three, oldest first
   Mat2 covariance_ = Mat2::Zero();

@@ -96,23 +96,21 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
     return NeesMean{sum_of_nees / n, dof, chiSquareQuantile(0.025, 1.0 * dof * n) / n,
                     chiSquareQuantile(0.975, 1.0 * dof * n) / n};
   };
-  const NeesMean whole = bounded(sum, 6);
-  r.mean = whole.mean;
-  r.lower = whole.lower;
-  r.upper = whole.upper;
+  static_cast<NeesMean&>(r) = bounded(sum, 6);
   r.position = bounded(position_sum, 3);
   r.orientation = bounded(orientation_sum, 3);
   return r;
 }
 
 nlohmann::json neesToJson(const NeesResult& nees) {
-  const auto part = [](const NeesMean& m) {
+  const auto bounded = [](const NeesMean& m) {
     return nlohmann::json{{"mean", m.mean}, {"dof", m.dof}, {"lower", m.lower}, {"upper", m.upper}};
   };
-  return {{"mean", nees.mean},         {"dof", nees.dof},
-          {"lower", nees.lower},       {"upper", nees.upper},
-          {"frames", nees.frames()},   {"position", part(nees.position)},
-          {"orientation", part(nees.orientation)}};
+  nlohmann::json j = bounded(nees);
+  j["frames"] = nees.frames();
+  j["position"] = bounded(nees.position);
+  j["orientation"] = bounded(nees.orientation);
+  return j;
 }
 
 void writeNeesCsv(const std::string& path, const NeesResult& nees) {

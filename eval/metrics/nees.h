@@ -41,10 +41,8 @@ struct NeesMean {
   double lower = 0, upper = 0;
 };
 
-struct NeesResult {
-  double mean = 0;
-  int dof = 6;
-  double lower = 0, upper = 0;  // 95 % bounds of the mean for a consistent filter
+// The whole pose's (6 dof) mean and bounds, and its parts'.
+struct NeesResult : NeesMean {
   NeesMean position, orientation;  // the 3-dof parts' means and bounds
   std::vector<TimedNees> per_frame;  // the poses scored, in the estimate's order (nees.csv)
   std::vector<NeesParts> per_frame_parts;  // the same poses' parts
