@@ -98,17 +98,24 @@ Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, co
     throw InputError(where, backend.name + " is not among --backends");
   const std::vector<OptionFile> own_files = optionFilesOf(backend.name, files);
   std::stringstream values(text.substr(eq + 1));
+  std::vector<nlohmann::json> loaded;  // the options each value gives: 200 and 0200 are one setting
   for (std::string v; std::getline(values, v, ',');) {
     if (v.empty()) throw InputError(where, "has an empty value");
     if (std::find(sweep.values.begin(), sweep.values.end(), v) != sweep.values.end())
       throw InputError(where, "lists '" + v + "' twice");
+    nlohmann::json options;
     for (const OptionFile& file : own_files) {
       try {  // the option exists and takes the value, with the file's (or the defaults') other options
-        loadBackendOptions(backend, file.path, {sweep.key + "=" + v});
+        const auto with_value = loadBackendOptions(backend, file.path, {sweep.key + "=" + v});
+        if (options.is_null()) options = with_value->toJson();
       } catch (const InputError& e) {
         throw InputError(where, "value " + v + (file.path.empty() ? "" : " with --config " + file.path) + ": " + e.what());
       }
     }
+    if (const auto same = std::find(loaded.begin(), loaded.end(), options); same != loaded.end())
+      throw InputError(where, "lists '" + sweep.values[static_cast<size_t>(same - loaded.begin())] + "' and '" + v +
+                                  "', the same value");
+    loaded.push_back(std::move(options));
     sweep.values.push_back(v);
   }
   if (sweep.values.empty()) throw InputError(where, "gives no value");

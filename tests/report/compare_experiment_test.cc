@@ -213,6 +213,21 @@ TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
     EXPECT_NE(std::string(e.what()).find("cslam.features.max_features"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("many"), std::string::npos) << e.what();
   }
+  // Values written apart but read alike would run the same runs twice.
+  for (const auto& [sweep, said] : std::vector<std::pair<std::string, std::string>>{
+           {"cslam.features.max_features=200,150,0200", "lists '200' and '0200', the same value"},
+           {"cslam.fusion.min_pixel_sigma=0.02,2e-2", "lists '0.02' and '2e-2', the same value"},
+           {"cslam.fusion.enabled=true,1", "lists 'true' and '1', the same value"}}) {
+    options.sets = {sweep};
+    try {
+      planCompare(options);
+      ADD_FAILURE() << "accepted " << sweep;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--set " + sweep + ": " + said), std::string::npos) << e.what();
+    }
+  }
+  options.sets = {"cslam.fusion.min_pixel_sigma=0.02,0.021"};
+  EXPECT_EQ(planCompare(options), 4u);
 }
 
 // A sequence without ground truth (a real video) over trials and a sweep: no ATE to plot, and the
