@@ -8,12 +8,18 @@ namespace slamcmp {
 
 cv::Mat toGrey(const cv::Mat& image) {
   if (image.channels() == 1 && image.depth() == CV_8U) return image;
+  // cvtColor takes 8 and 16-bit and single floats: any other depth is made a float first.
+  const int depth = image.depth();
+  cv::Mat colour = image;
+  if (depth != CV_8U && depth != CV_16U && depth != CV_32F) image.convertTo(colour, CV_32F);
   cv::Mat grey;
-  if (image.channels() == 3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-  else if (image.channels() == 4) cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
-  else grey = image;
-  if (grey.depth() == CV_16U) grey.convertTo(grey, CV_8U, 1.0 / 257.0);
-  else if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U);
+  if (colour.channels() == 3) cv::cvtColor(colour, grey, cv::COLOR_BGR2GRAY);
+  else if (colour.channels() == 4) cv::cvtColor(colour, grey, cv::COLOR_BGRA2GRAY);
+  else grey = colour;
+  // Floating point images (PFM, EXR, TIFF) hold 0..1, as OpenCV shows and writes them; 16 bits
+  // 0..65535; other integers are grey levels as they are (saturated).
+  const double scale = depth == CV_16U ? 1.0 / 257.0 : depth == CV_32F || depth == CV_64F ? 255.0 : 1.0;
+  if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U, scale);
   return grey;
 }
 

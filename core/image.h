@@ -8,7 +8,8 @@
 
 namespace slamcmp {
 
-// Grey 8-bit from grey, BGR or BGRA (a view when it already is).
+// Grey 8-bit from grey, BGR or BGRA of 8 or 16 bits, or floating point in 0..1 (a view when it
+// already is 8-bit grey).
 cv::Mat toGrey(const cv::Mat& image);
 
 // Level 0 is the image itself; each further level halves (OpenCV pyrDown).

@@ -41,6 +41,16 @@ std::vector<double> readNumberList(const YamlFile& f, const std::string& key, si
 // [w, h], T_BS (camera in body frame).
 CameraModel readEurocCamera(const std::string& path, SE3* T_body_camera) {
   YamlFile f(path);
+  // Kalibr's other models (a fisheye's equidistant distortion, the double sphere camera) read as a
+  // pinhole with radial-tangential distortion would put every ray elsewhere.
+  for (const auto& [key, model] : {std::pair<const char*, const char*>{"camera_model", "pinhole"},
+                                   {"distortion_model", "radial-tangential"}}) {
+    if (!f.has(key)) continue;
+    const std::string given = f.getString(key);
+    if (given != model && !(std::string(key) == "distortion_model" && given == "radtan"))
+      throw InputError(path + ": " + key, "'" + given + "' is not read: only a " + model +
+                                              " camera (EuRoC's), or give a camera.yaml with --camera");
+  }
   const auto k = readNumberList(f, "intrinsics", 4);
   const auto d = readNumberList(f, "distortion_coefficients", 4);
   const auto r = readNumberList(f, "resolution", 2);

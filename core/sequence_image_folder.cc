@@ -1,4 +1,5 @@
-// A plain folder of images: the frames in file name order, timestamped at a rate the user gives.
+// A plain folder of images: the frames in file name order (numbers by value: frame2 before frame10,
+// as a file browser lists them), timestamped at a rate the user gives.
 #include <algorithm>
 
 #include "core/error.h"
@@ -18,6 +19,31 @@ bool isImageFile(const fs::path& p) {
   return std::any_of(std::begin(kExt), std::end(kExt), [&](const char* e) { return ext == e; });
 }
 
+// Digit runs compared by their value (then by length: 01 after 1), the rest byte by byte.
+bool naturalLess(const std::string& a, const std::string& b) {
+  size_t i = 0, j = 0;
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      const size_t a0 = i, b0 = j;
+      while (i < a.size() && digit(a[i])) ++i;
+      while (j < b.size() && digit(b[j])) ++j;
+      // Leading zeros aside, the longer run is the larger number; of equal length, the first
+      // differing digit decides.
+      const size_t az = a.find_first_not_of('0', a0), bz = b.find_first_not_of('0', b0);
+      const size_t a_len = i - std::min(az, i), b_len = j - std::min(bz, j);
+      if (a_len != b_len) return a_len < b_len;
+      const int c = a.compare(i - a_len, a_len, b, j - b_len, b_len);
+      if (c != 0) return c < 0;
+      if (i - a0 != j - b0) return i - a0 < j - b0;
+    } else {
+      if (a[i] != b[j]) return static_cast<unsigned char>(a[i]) < static_cast<unsigned char>(b[j]);
+      ++i, ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
 std::vector<ImageEntry> listImageFolder(const fs::path& dir, double fps) {
   std::vector<std::string> files;
   std::error_code ec;
@@ -27,7 +53,7 @@ std::vector<ImageEntry> listImageFolder(const fs::path& dir, double fps) {
   }
   if (ec) throw InputError(dir.string(), "cannot be listed: " + ec.message());
   if (files.empty()) throw InputError(dir.string(), "holds no rgb.txt and no image files");
-  std::sort(files.begin(), files.end());
+  std::sort(files.begin(), files.end(), naturalLess);
   std::vector<ImageEntry> entries;
   for (size_t i = 0; i < files.size(); ++i) entries.push_back({i / fps, files[i]});
   return entries;

@@ -222,10 +222,26 @@ Plan makePlan(const CompareOptions& options) {
     synths.push_back(options.trials > 1 ? readSynthInfo(path) : std::nullopt);
 
   std::error_code ec;
-  // An earlier compare's folder (its plan.json): its runs, logs, trial renders and figures go, or
-  // the new report would sit beside the old experiment's figures and run folders.
-  if (fs::exists(dir / "plan.json", ec))
-    for (const char* sub : {"runs", "logs", "figures", "sequences"}) fs::remove_all(dir / sub, ec);
+  // An earlier compare's folder (its plan.json): its runs, logs, trial renders (sequences/seed<k>)
+  // and figures go, or the new report would sit beside the old experiment's figures and run
+  // folders. A given sequence in sequences/ stays (reproduce renders tv1..tv4 there: its second
+  // run into the same folder found them gone).
+  if (fs::exists(dir / "plan.json", ec)) {
+    for (const char* sub : {"runs", "logs", "figures"}) fs::remove_all(dir / sub, ec);
+    std::vector<fs::path> renders;
+    for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.size() > 4 && name.rfind("seed", 0) == 0 && name.find_first_not_of("0123456789", 4) == std::string::npos)
+        renders.push_back(fs::weakly_canonical(it->path(), ec));
+    }
+    for (const fs::path& render : renders) {
+      const bool holds_given = std::any_of(plan.sequences.begin(), plan.sequences.end(), [&](const std::string& given) {
+        return fs::weakly_canonical(given, ec).string().rfind(render.string() + "/", 0) == 0;
+      });
+      if (!holds_given) fs::remove_all(render, ec);
+    }
+    fs::remove(dir / "sequences", ec);  // when empty
+  }
   for (const char* sub : {"runs", "logs", "figures"}) {
     fs::create_directories(dir / sub, ec);
     if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());

@@ -35,6 +35,12 @@ TEST(Image, GreyConversionAndPyramid) {
   EXPECT_NEAR(grey.at<uchar>(5, 5), 0.114 * 10 + 0.587 * 100 + 0.299 * 200, 1.0);
   cv::Mat grey16(30, 40, CV_16UC1, cv::Scalar(65535));
   EXPECT_EQ(toGrey(grey16).at<uchar>(0, 0), 255);
+  // Floating point images hold 0..1 (PFM, EXR): a mid grey stays mid grey, beyond 1 saturates.
+  const cv::Mat grey32 = (cv::Mat_<float>(1, 3) << 0.f, 0.5f, 1.5f);
+  EXPECT_EQ(toGrey(grey32).at<uchar>(0, 1), 128);
+  EXPECT_EQ(toGrey(grey32).at<uchar>(0, 2), 255);
+  cv::Mat bgr64(2, 2, CV_64FC3, cv::Scalar(0.25, 0.25, 0.25));
+  EXPECT_EQ(toGrey(bgr64).at<uchar>(1, 1), 64);
   const auto pyramid = buildPyramid(randomImage(64, 48, 5), 3);
   ASSERT_EQ(pyramid.size(), 3u);
   EXPECT_EQ(pyramid[1].size(), cv::Size(32, 24));

@@ -169,6 +169,20 @@ TEST(Sequence, OpensPlainImageFolderInNameOrder) {
   EXPECT_EQ(cv::norm(frames[0].grey, testImage(32, 24, 1), cv::NORM_INF), 0.0);  // PNG is lossless
 }
 
+// Numbered names without zeros in front play in their numbers' order, not their bytes'.
+TEST(Sequence, PlainImageFolderNumbersInOrderOfValue) {
+  test::TempDir dir;
+  const std::vector<std::string> names = {"frame1.png", "frame2.png", "frame9.png", "frame10.png", "frame11.png",
+                                          "frame011.png", "frame100.png", "frame100a.png", "framez.png"};
+  for (size_t k = 0; k < names.size(); ++k) writeImage(dir.file(names[names.size() - 1 - k]), testImage(8, 6, 0));
+  SequenceOpenOptions options;
+  options.images_fps = 10.0;
+  Sequence seq = openSequence(dir.path(), options);
+  const std::vector<Frame> frames = readAll(seq);
+  ASSERT_EQ(frames.size(), names.size());
+  for (size_t k = 0; k < names.size(); ++k) EXPECT_EQ(frames[k].source, dir.file(names[k])) << k;
+}
+
 TEST(Sequence, OpensEurocFolderWithCameraAndBodyGroundTruth) {
   test::TempDir dir;
   const std::string cam = dir.file("mav0/cam0");
@@ -214,6 +228,40 @@ TEST(Sequence, OpensEurocFolderWithCameraAndBodyGroundTruth) {
   EXPECT_EQ(frames[1].timestamp, seq.groundtruth->at(1).timestamp);
   EXPECT_NEAR(frames[0].timestamp, 1403715273.262142976, 1e-6);
   EXPECT_NEAR(frames[1].timestamp - frames[0].timestamp, 0.05, 1e-6);
+}
+
+// A EuRoC list written in seconds would put its frames nanoseconds apart; a Kalibr fisheye's
+// sensor.yaml would be read as a pinhole with radial-tangential distortion.
+TEST(Sequence, EurocSecondsAndOtherCameraModelsAreRefused) {
+  test::TempDir dir;
+  const std::string cam = dir.file("mav0/cam0");
+  std::filesystem::create_directories(cam + "/data");
+  writeImage(cam + "/data/a.png", testImage(40, 30, 0));
+  writeImage(cam + "/data/b.png", testImage(40, 30, 1));
+  const auto refused = [&](const std::string& where, const std::string& said) {
+    try {
+      openSequence(dir.path());
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(where), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(said), std::string::npos) << e.what();
+    }
+  };
+  test::writeText(cam + "/data.csv", "#timestamp [ns],filename\n0.05,a.png\n0.10,b.png\n");
+  refused(cam + "/data.csv", "are these seconds?");
+  test::writeText(cam + "/data.csv", "#timestamp [ns],filename\n50000000,a.png\n100000000,b.png\n");
+  const std::string sensor =
+      "%YAML:1.0\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0,\n"
+      "         0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]\nresolution: [40, 30]\n"
+      "intrinsics: [45.6, 45.7, 19.5, 14.5]\ndistortion_coefficients: [-0.28, 0.07, 0.0002, 1.7e-05]\n";
+  test::writeText(cam + "/sensor.yaml", sensor + "camera_model: pinhole\ndistortion_model: equidistant\n");
+  refused(cam + "/sensor.yaml: distortion_model", "'equidistant' is not read");
+  test::writeText(cam + "/sensor.yaml", sensor + "camera_model: ds\n");
+  refused(cam + "/sensor.yaml: camera_model", "'ds' is not read");
+  test::writeText(cam + "/sensor.yaml", sensor + "camera_model: pinhole\ndistortion_model: radtan\n");
+  const Sequence seq = openSequence(dir.path());
+  ASSERT_TRUE(seq.camera.has_value());
+  EXPECT_EQ(seq.fps, 20.0);
 }
 
 // A TUM folder with three valid 32x24 images a.png, b.png, c.png and the given rgb.txt.

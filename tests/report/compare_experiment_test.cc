@@ -258,6 +258,23 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   size_t runs = 0;
   for (const auto& entry : fs::directory_iterator(tmp.file("c/runs"))) runs += entry.is_directory();
   EXPECT_EQ(runs, 1u);
+
+  // A sequence given from the folder's sequences/ (as reproduce renders tv1..tv4 there) stays for
+  // the next compare into it; the earlier trials' renders beside it go.
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = 4;
+  synth.supersample = 1;
+  writeSyntheticSequence(synth, tmp.file("r/sequences/tv1"));
+  CompareOptions inside = shortCompare(tmp.file("r/sequences/tv1"), "cslam", tmp.file("r"));
+  inside.trials = 2;
+  runCompare(inside);
+  EXPECT_TRUE(fs::exists(tmp.file("r/sequences/seed2/tv1/rgb.txt")));
+  inside.trials = 1;
+  runCompare(inside);
+  EXPECT_EQ(readResults(tmp.file("r/results.csv")).size(), 1u);
+  EXPECT_TRUE(fs::exists(tmp.file("r/sequences/tv1/rgb.txt")));
+  EXPECT_FALSE(fs::exists(tmp.file("r/sequences/seed2")));
 }
 
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
