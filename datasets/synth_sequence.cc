@@ -31,7 +31,8 @@ void SynthOptions::check() const {
   if (frames < 0 || frames > kMaxFrames)
     throw InputError("--frames", "must be in [1, " + std::to_string(kMaxFrames) + "] (or left out for the preset's), got " +
                                      std::to_string(frames));
-  if (!(noise >= 0) || !std::isfinite(noise)) throw InputError("--noise", "must be a finite number >= 0");
+  // Beyond the grey scale's span the 8-bit conversion overflows (1e10 gave black frames).
+  if (!(noise >= 0) || !(noise <= 255)) throw InputError("--noise", "must be in [0, 255] grey levels");
   if (!(blur >= 0) || !(blur <= 100)) throw InputError("--blur", "must be in [0, 100] pixels");
   if (!(lens_blur >= 0) || !(lens_blur <= 5)) throw InputError("--lens-blur", "must be in [0, 5] pixels");
   if (!(illumination >= 0) || !(illumination < 1))
@@ -82,8 +83,16 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   const Scene scene = buildRoomScene(static_cast<std::uint64_t>(options.seed));
   const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
   const MotionPreset& preset = findMotionPreset(options.preset);
-  // An earlier sequence's lists go first: an interruption must not leave them beside this one's files.
+  // An earlier sequence's lists and frames go first: an interruption must not leave them beside
+  // this one's files, nor a longer one's frames beyond this one's in rgb/ (synth's names only).
   for (const char* list : {"rgb.txt", "groundtruth.txt"}) fs::remove(out / list, ec);
+  std::vector<fs::path> old_frames;
+  for (fs::directory_iterator it(out / "rgb", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() == 10 && name.compare(6, 4, ".png") == 0 && name.find_first_not_of("0123456789") == 6)
+      old_frames.push_back(it->path());
+  }
+  for (const fs::path& frame : old_frames) fs::remove(frame, ec);
   writeCameraYaml((out / "camera.yaml").string(), camera);
   writeTargetYaml((out / "target.yaml").string(), scene.target);
   writeSceneYaml((out / "scene.yaml").string(), scene);
@@ -111,8 +120,10 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   };
   for (int i = 0; i < frames; ++i) {
     if (interruptRequested()) {  // what is rendered stays a sequence of its own, and says how long
-      if (groundtruth.empty())
+      if (groundtruth.empty()) {
+        fs::remove(out / "info.yaml", ec);  // it would describe frames that are not there
         throw Interrupted("interrupted before the first frame: " + out.string() + " holds no sequence");
+      }
       SynthOptions rendered = options;
       rendered.frames = i;
       writeInfo(rendered);

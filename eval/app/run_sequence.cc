@@ -227,6 +227,12 @@ nlohmann::json runSequence(const RunRequest& request) {
                           "the run was posed is found again (relocalised), never from a new map";
   }
   std::optional<Similarity3> T_gt_scale_free;  // a scale-free run's Sim(3) alignment, for its map too
+  if (seq.groundtruth && recorder.tracked() < 2 && !interrupted() && !quit) {
+    // Not scored, and said: a summary.json without ate would otherwise pass for a run without truth.
+    extra["metrics_error"] = std::to_string(recorder.tracked()) + " posed frame(s): the ATE and RPE need 2 or more";
+    std::cerr << seq.groundtruth_path << ": warning: the run cannot be scored against it: "
+              << extra["metrics_error"].get<std::string>() << "\n";
+  }
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);

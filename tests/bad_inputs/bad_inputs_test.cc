@@ -668,6 +668,12 @@ std::vector<BadCase> cases() {
                 return Invocation{"synth --preset tv1 --frames 2000000000 --out " + tmp.file("s"),
                                   {"--frames", "must be in [1, 100000]"}};
               }},
+      // Noise beyond the grey scale overflowed the 8-bit conversion: black frames, exit 0.
+      BadCase{"SynthNoiseBeyondTheGreyScale",
+              [](const TempDir& tmp) {
+                return Invocation{"synth --preset tv1 --frames 1 --noise 1e10 --out " + tmp.file("s"),
+                                  {"--noise", "must be in [0, 255] grey levels"}};
+              }},
       emptyOptionCase("CalibrateSequenceEmpty",
                       "calibrate --sequence '' --target {seq}/target.yaml --out {tmp}/c.yaml", "--sequence"),
       emptyOptionCase("CalibrateTargetEmpty", "calibrate --sequence {seq} --target '' --out {tmp}/c.yaml",

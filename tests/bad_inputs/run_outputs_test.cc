@@ -103,6 +103,25 @@ TEST(RunOutputs, GroundTruthThatCannotScoreTheRunIsWarnedAbout) {
   EXPECT_NE(summary.value("metrics_error", "").find("no time overlap"), std::string::npos) << summary.dump();
 }
 
+// A run with one posed frame has no ATE or RPE (each needs two poses): said, not left out unsaid.
+TEST(RunOutputs, ARunTooShortToScoreIsWarnedAbout) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 3);
+  const std::string out = tmp.file("out");
+  const auto r = test::runSlamcmp("run --backend cslam --max-frames 1 --sequence " + seq + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(seq + "/groundtruth.txt: warning: the run cannot be scored against it: 1 posed frame(s)", 0), 0u)
+      << r.err;
+  const nlohmann::json summary = nlohmann::json::parse(readFile(out + "/summary.json"));
+  EXPECT_FALSE(summary.contains("ate"));
+  EXPECT_EQ(summary.value("metrics_error", ""), "1 posed frame(s): the ATE and RPE need 2 or more");
+  const auto two = test::runSlamcmp("run --backend cslam --max-frames 2 --sequence " + seq + " --out " + out);
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_EQ(two.err, "");
+  EXPECT_TRUE(nlohmann::json::parse(readFile(out + "/summary.json")).contains("ate"));
+}
+
 // A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
 std::string compareTv1(const TempDir& tmp) {
   const std::string seq = renderTv1(tmp, 10, "good");
@@ -128,8 +147,22 @@ TEST(RunOutputs, CollectRefusesARunWhoseFilesDisagree) {
   std::string fewer;
   for (size_t i = 0; i + 3 < rows.size(); ++i) fewer += rows[i] + "\n";
   writeText(run + "/frames.csv", fewer);
-  const std::string error = collectedError(tmp.file("c"));
+  std::string error = collectedError(tmp.file("c"));
   EXPECT_NE(error.find(run + "/frames.csv: has 7 rows but summary.json says 10 frames"), std::string::npos) << error;
+
+  // summary.json's nees is nees.csv's mean: one without the other (a filter's run whose nees.csv
+  // was lost would leave the trials' NEES test without it, unsaid).
+  const std::string other = compareTv1(tmp);
+  nlohmann::json summary = nlohmann::json::parse(readFile(other + "/summary.json"));
+  summary["nees"] = {{"mean", 6.0}, {"dof", 6}, {"lower", 5.0}, {"upper", 7.0}};
+  writeText(other + "/summary.json", summary.dump());
+  error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(other + "/summary.json: has nees but nees.csv is missing"), std::string::npos) << error;
+  summary.erase("nees");
+  writeText(other + "/summary.json", summary.dump());
+  writeText(other + "/nees.csv", "timestamp,nees,position,orientation\n0.1,6,3,3\n");
+  error = collectedError(tmp.file("c"));
+  EXPECT_NE(error.find(other + "/nees.csv: is there but summary.json has no nees"), std::string::npos) << error;
 }
 
 // --collect checks what it reads of summary.json: a negative count or a word for a number is

@@ -1,4 +1,5 @@
 // The written sequence folder reads back through core, and bad options are input errors.
+#include <algorithm>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -122,12 +123,31 @@ TEST(SynthSequence, BadOptionsAreInputErrors) {
   rejects([](SynthOptions& o) { o.frames = -3; });
   rejects([](SynthOptions& o) { o.noise = -1; });
   rejects([](SynthOptions& o) { o.noise = std::nan(""); });
+  rejects([](SynthOptions& o) { o.noise = 256; });
   rejects([](SynthOptions& o) { o.blur = -0.5; });
   rejects([](SynthOptions& o) { o.illumination = 1.5; });
   rejects([](SynthOptions& o) { o.supersample = 0; });
   rejects([](SynthOptions& o) { o.rolling_shutter = -0.01; });
   rejects([](SynthOptions& o) { o.rolling_shutter = std::nan(""); });
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));  // nothing written before the check
+}
+
+// A shorter render into the folder of a longer one: its rgb/ holds its own frames only (a user's
+// own files there stay).
+TEST(SynthSequence, ARenderReplacesAnEarlierOnesFrames) {
+  test::TempDir dir;
+  SynthOptions options;
+  options.supersample = 1;
+  options.frames = 4;
+  writeSyntheticSequence(options, dir.path());
+  test::writeText(dir.file("rgb/notes.png"), "the user's");
+  options.frames = 2;
+  writeSyntheticSequence(options, dir.path());
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.file("rgb")))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"000000.png", "000001.png", "notes.png"}));
 }
 
 TEST(SynthSequence, UnwritableOutputIsAnInputError) {
