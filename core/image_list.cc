@@ -80,8 +80,7 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
     if (layout.stop_on_interrupt && interruptRequested())
       throw Interrupted(atLine(list, n) + ": interrupted while the list was being read");
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    // A byte-order mark (a list saved by Windows Notepad as "UTF-8"): not part of the first field.
-    if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    if (n == 1) dropByteOrderMark(&line);
     if (n == 1 && (line.rfind("\xFF\xFE", 0) == 0 || line.rfind("\xFE\xFF", 0) == 0))
       throw InputError(list, "starts with a UTF-16 byte-order mark: save it as UTF-8 or ASCII text");
     const auto first = line.find_first_not_of(" \t");

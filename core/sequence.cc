@@ -149,7 +149,10 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   seq.name = folder ? lastComponent(p) : p.stem().string();
   const fs::path companion_dir = folder ? p : p.parent_path();  // camera.yaml, target.yaml, groundtruth.txt
 
-  if (!options.camera_path.empty()) {
+  if (!options.read_camera) {
+    seq.camera.reset();
+    seq.camera_path.clear();
+  } else if (!options.camera_path.empty()) {
     seq.camera_path = options.camera_path;
     seq.camera = readCameraYaml(seq.camera_path);
   } else if (!seq.camera && pathExists(companion_dir / "camera.yaml")) {

@@ -64,6 +64,9 @@ struct SequenceOpenOptions {
   // An interrupt (core/interrupt.h) ends the reading of a long image list; compare's collect, which
   // reads the sequences after its runs were interrupted, reads on.
   bool stop_on_interrupt = true;
+  // calibrate makes the camera file: the sequence's own (camera.yaml, EuRoC's sensor.yaml) is not
+  // read, so a broken one can be replaced.
+  bool read_camera = true;
 };
 
 // Throws InputError for anything missing or malformed; reads the first frame to learn (and check)

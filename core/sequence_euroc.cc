@@ -92,7 +92,7 @@ class EurocFormat : public SequenceFormat {
     const double fps = medianRate(entries);
     Sequence seq = imageListSequence(std::move(entries), fps);
     SE3 T_body_camera;
-    if (options.camera_path.empty() && pathExists(cam / "sensor.yaml")) {
+    if (options.read_camera && options.camera_path.empty() && pathExists(cam / "sensor.yaml")) {
       seq.camera_path = (cam / "sensor.yaml").string();
       seq.camera = readEurocCamera(seq.camera_path, &T_body_camera);
     }

@@ -25,4 +25,8 @@ std::string lowerExtension(const std::string& path) {
   return extension;
 }
 
+void dropByteOrderMark(std::string* first_line) {
+  if (first_line->rfind("\xEF\xBB\xBF", 0) == 0) first_line->erase(0, 3);
+}
+
 }  // namespace slamcmp

@@ -12,6 +12,10 @@ namespace slamcmp {
 // the stream's first read) or cannot be opened.
 std::ifstream openTextFile(const std::string& path, std::ios::openmode mode = std::ios::in);
 
+// A file's first line without a UTF-8 byte-order mark (a file saved by Windows Notepad as "UTF-8"):
+// it is no part of the first field.
+void dropByteOrderMark(std::string* first_line);
+
 // The file name's extension in lower case, with its dot (".csv", ".png"; "" if none).
 std::string lowerExtension(const std::string& path);
 

@@ -75,6 +75,7 @@ void forEachDataLine(const std::string& path, F&& f) {
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    if (line_number == 1) dropByteOrderMark(&line);
     if (isCommentOrBlank(line)) continue;
     if (!parseNumbers(line, &v)) throw InputError(atLine(path, line_number), "a field is not a number");
     for (double x : v)
@@ -120,6 +121,7 @@ TrajectoryFormat detectTrajectoryFormat(const std::string& path) {
   int n = 0;
   while (std::getline(in, line)) {
     ++n;
+    if (n == 1) dropByteOrderMark(&line);
     if (isCommentOrBlank(line)) continue;
     // EuRoC's .csv is comma-separated; a TUM file saved as .csv (spaces) read as EuRoC would have
     // its seconds taken for nanoseconds and pair poses far apart without a word.

@@ -15,6 +15,7 @@
 #include <yaml.h>
 
 #include "core/error.h"
+#include "core/text_file.h"
 
 namespace slamcmp {
 
@@ -143,6 +144,9 @@ YamlFile::YamlFile(const std::string& path, Header header) : path_(path) {
   std::string first;
   std::getline(probe, first);
   if (!probe && first.empty()) throw InputError(path, "is empty");
+  const size_t first_length = first.size();
+  dropByteOrderMark(&first);
+  const bool byte_order_mark = first.size() != first_length;  // OpenCV's parser refuses one
   std::stringstream text;
   text << first << '\n' << probe.rdbuf();
   if (const YamlProblem problem = yamlSyntaxProblem(text.str()); !problem.what.empty()) {
@@ -151,8 +155,8 @@ YamlFile::YamlFile(const std::string& path, Header header) : path_(path) {
   }
   const bool add_header = header == Header::Optional && first.rfind("%YAML", 0) != 0;
   try {
-    if (add_header)
-      fs_.open("%YAML:1.0\n---\n" + text.str(),
+    if (add_header || byte_order_mark)
+      fs_.open((add_header ? "%YAML:1.0\n---\n" : "") + text.str(),
                cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
     else
       fs_.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);

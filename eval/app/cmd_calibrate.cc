@@ -8,6 +8,8 @@
 #include "core/error.h"
 #include "core/sequence.h"
 #include "core/target.h"
+#include "core/text_file.h"
+#include "core/yaml.h"
 #include "core/self_calibration.h"
 #include "eval/app/commands.h"
 
@@ -30,17 +32,24 @@ void addCalibrateCommand(CLI::App& app) {
       ->check(CLI::IsMember(SubpixelCornerOptions::kMethods))
       ->capture_default_str();
   cmd->callback([args] {
-    // --out names the camera file to write: an existing file that is not one (the target, rgb.txt,
-    // an image) would be replaced by it, and the sequence broken.
+    // --out names the camera file to write: a YAML file, and an existing file that is not one (the
+    // target, rgb.txt, an image) would be replaced by it, and the sequence broken. A camera file
+    // whose values are refused (a folding lens, another image size) is one, to be replaced.
+    const std::string extension = lowerExtension(args->out);
+    if (extension != ".yaml" && extension != ".yml")
+      throw InputError("--out", args->out + ": a camera file is written as YAML: name it .yaml or .yml");
     std::error_code unreadable;  // a path that cannot be looked at: the write below says so
     if (std::filesystem::exists(args->out, unreadable)) {
+      bool camera_file = false;
       try {
-        readCameraYaml(args->out);
+        camera_file = YamlFile(args->out).has("camera_matrix");
       } catch (const std::exception&) {  // InputError; OpenCV's parser on a binary file
-        throw InputError("--out", args->out + " exists and is not a camera file: calibrate would overwrite it");
       }
+      if (!camera_file)
+        throw InputError("--out", args->out + " exists and is not a camera file: calibrate would overwrite it");
     }
     SequenceOpenOptions open;
+    open.read_camera = false;
     open.target_path = args->target;
     open.allow_symmetric_target = true;  // intrinsics do not depend on the board's orientation
     Sequence seq = openSequence(args->sequence, open);
@@ -54,6 +63,11 @@ void addCalibrateCommand(CLI::App& app) {
     detector.subpixel.method = args->subpixel;
     const CalibrationResult r =
         calibrateFromFrames(*seq.frames, *seq.target, seq.image_size, options, args->sequence, detector);
+    if (const auto folder = std::filesystem::path(args->out).parent_path(); !folder.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(folder, ec);
+      if (ec) throw InputError(args->out, "its folder cannot be created: " + ec.message());
+    }
     writeCameraYaml(args->out, r.camera, r.rms_px);
     std::cout << "calibrated from " << r.views << " views: fx " << r.camera.fx << " fy " << r.camera.fy << " cx "
               << r.camera.cx << " cy " << r.camera.cy << ", rms " << r.rms_px << " px"

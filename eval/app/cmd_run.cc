@@ -37,7 +37,7 @@ void addRunCommand(CLI::App& app) {
                   "none (no target: scale-free start, scored after Sim(3) alignment)");
   cmd->add_option("--overlay", request->overlay_path,
                   "write every frame with what the back-end saw drawn on it: a video (.avi, .mp4, .mkv) or "
-                  "a folder of PNGs, with overlay.csv listing the drawn positions")->check(nonEmptyPath());
+                  "a folder of PNGs, with a CSV listing the drawn positions (overlay.csv in the folder, <video>.csv beside a video)")->check(nonEmptyPath());
   cmd->add_option("--threads", request->opencv_threads,
                   "OpenCV's threads for the back-end; with 1 (the default) its work stays on the tracking thread, "
                   "whose CPU time is frames.csv's cpu_ms; with more, its workers' time is not in cpu_ms")

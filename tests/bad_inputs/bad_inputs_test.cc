@@ -806,6 +806,17 @@ std::vector<BadCase> cases() {
       rgbCase("RgbByteOrderMarkThenBadTimestamp", "\xEF\xBB\xBFzero rgb/0.png\n",
               ":1: timestamp 'zero' is not a number"),
       rgbCase("RgbUtf16", std::string("\xFF\xFE" "0\0.\0", 6), ": starts with a UTF-16 byte-order mark"),
+      // A byte-order mark before camera.yaml's %YAML or groundtruth.txt's first line was "not valid
+      // YAML" and "a field is not a number" (on a comment line): both are read.
+      runCase("CameraYamlByteOrderMarkSkipped",
+              [](const std::string& seq) { writeText(seq + "/camera.yaml", "\xEF\xBB\xBF" + std::string(kCameraYaml)); },
+              {"the board never appeared"}),
+      runCase("GroundTruthByteOrderMarkSkipped",
+              [](const std::string& seq) {
+                writeText(seq + "/groundtruth.txt", "\xEF\xBB\xBF# timestamp tx ty tz qx qy qz qw\n"
+                                                    "0.0 0 0 -1 0 0 0 1\n0.1 0.01 0 -1 0 0 0 1\n0.2 0.02 0 -1 0 0 0 1\n");
+              },
+              {"the board never appeared"}),
       // Issue 11: a EuRoC T_BS that is no rotation.
       eurocSensorCase("EurocTbsAllZeros", "0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1"),
       eurocSensorCase("EurocTbsScaled", "2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1"),

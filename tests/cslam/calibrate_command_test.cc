@@ -77,22 +77,34 @@ TEST(CalibrateCommand, NoBoardIsBadInput) {
 
 // --out names the camera file to write: an existing file that is not a camera file (here the
 // sequence's own target.yaml and rgb.txt) is refused before anything is read, and left as it was;
-// the sequence's camera.yaml is replaced.
+// the sequence's camera.yaml is replaced, even one whose values are refused (another image size),
+// which calibrate does not read; a new folder is made for it.
 TEST(CalibrateCommand, OutNeverOverwritesAnInput) {
   test::TempDir dir;
   const std::string seq = dir.file("seq");
   ASSERT_EQ(test::runSlamcmp("synth --preset handheld_rpy --frames 120 --supersample 1 --out " + seq).exit_code, 0);
-  for (const std::string input : {"target.yaml", "rgb.txt"}) {
+  const auto calibrate = [&](const std::string& out) {
+    return test::runSlamcmp("calibrate --sequence " + seq + " --target " + seq + "/target.yaml --out " + out);
+  };
+  for (const auto& [input, said] : {std::pair<std::string, std::string>{"target.yaml", " exists and is not a camera file"},
+                                    {"rgb.txt", ": a camera file is written as YAML: name it .yaml or .yml"},
+                                    {"rgb/000000.png", ": a camera file is written as YAML"}}) {
     const std::string path = seq + "/" + input;
     const std::vector<std::string> before = test::readLines(path);
-    const auto r = test::runSlamcmp("calibrate --sequence " + seq + " --target " + seq + "/target.yaml --out " + path);
+    const auto r = calibrate(path);
     EXPECT_EQ(r.exit_code, 2) << input;
-    EXPECT_NE(r.err.find("--out: " + path + " exists and is not a camera file"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--out: " + path + said), std::string::npos) << r.err;
     EXPECT_EQ(test::readLines(path), before) << input;
   }
-  const auto r = test::runSlamcmp("calibrate --sequence " + seq + " --target " + seq + "/target.yaml --out " + seq +
-                                  "/camera.yaml");
+  CameraModel wrong_size = readCameraYaml(seq + "/camera.yaml");
+  wrong_size.width = 320;
+  wrong_size.height = 240;
+  writeCameraYaml(seq + "/camera.yaml", wrong_size);
+  const auto r = calibrate(seq + "/camera.yaml");
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(readCameraYaml(seq + "/camera.yaml").width, 640);
+  EXPECT_EQ(calibrate(dir.file("new/folder/camera.yaml")).exit_code, 0);
+  EXPECT_EQ(readCameraYaml(dir.file("new/folder/camera.yaml")).height, 480);
 }
 
 // The phone video's board has 8x6 inner corners: symmetric (its origin is ambiguous), which does
