@@ -4,6 +4,8 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <string>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/map_ply.h"
@@ -19,6 +21,8 @@ namespace {
 struct EvalRequest {
   std::string groundtruth_path;
   std::string estimate_path;
+  std::string groundtruth_times_path;  // a KITTI file's times (KITTI's times.txt)
+  std::string estimate_times_path;
   std::string map_path;
   std::string scene_path;
   EvalOptions options;
@@ -86,6 +90,15 @@ void addEvalCommand(CLI::App& app) {
   auto* estimate_option = cmd->add_option("--estimate", request->estimate_path, "estimated trajectory: TUM, EuRoC or KITTI")->check(nonEmptyPath());
   auto* map_option = cmd->add_option("--map", request->map_path, "map points to score (PLY, e.g. a run's map.ply)")->check(nonEmptyPath());
   auto* scene_option = cmd->add_option("--scene", request->scene_path, "the true scene (a synthetic sequence's scene.yaml)")->check(nonEmptyPath());
+  auto* groundtruth_times = cmd->add_option("--groundtruth-times", request->groundtruth_times_path,
+                                            "a KITTI ground truth's times, a second count a line (KITTI's times.txt): "
+                                            "its poses then pair by time, also with a TUM or EuRoC estimate")
+                                ->check(nonEmptyPath());
+  auto* estimate_times = cmd->add_option("--estimate-times", request->estimate_times_path,
+                                         "a KITTI estimate's times, as --groundtruth-times")
+                             ->check(nonEmptyPath());
+  groundtruth_times->needs(groundtruth_option);
+  estimate_times->needs(estimate_option);
   groundtruth_option->needs(estimate_option);
   estimate_option->needs(groundtruth_option);
   map_option->needs(scene_option);
@@ -125,20 +138,27 @@ void addEvalCommand(CLI::App& app) {
     request->options.check();
     const TrajectoryFormat groundtruth_format = detectTrajectoryFormat(request->groundtruth_path);
     const TrajectoryFormat estimate_format = detectTrajectoryFormat(request->estimate_path);
-    const Trajectory groundtruth = readTrajectory(request->groundtruth_path, groundtruth_format);
-    const Trajectory estimate = readTrajectory(request->estimate_path, estimate_format);
-    // KITTI files carry no time: their poses are numbered 0, 1, 2, ..., which against a timed file
-    // pair a few poses by chance. Two KITTI files pair by index, which a file cut short or with
-    // frames dropped would shift silently: evo refuses them unless both have as many poses.
-    if ((groundtruth_format == TrajectoryFormat::Kitti) != (estimate_format == TrajectoryFormat::Kitti)) {
-      const bool estimate_kitti = estimate_format == TrajectoryFormat::Kitti;
-      throw InputError(estimate_kitti ? request->estimate_path : request->groundtruth_path,
+    for (const auto& [times, format, option] :
+         {std::tuple{request->groundtruth_times_path, groundtruth_format, "--groundtruth-times"},
+          {request->estimate_times_path, estimate_format, "--estimate-times"}})
+      if (!times.empty() && format != TrajectoryFormat::Kitti)
+        throw InputError(option, times + ": times go with a KITTI file (12 fields a line); the other formats carry their own");
+    const Trajectory groundtruth =
+        readTrajectory(request->groundtruth_path, groundtruth_format, request->groundtruth_times_path);
+    const Trajectory estimate = readTrajectory(request->estimate_path, estimate_format, request->estimate_times_path);
+    // KITTI files without their times are numbered 0, 1, 2, ..., which against a timed file pair a
+    // few poses by chance. Two such files pair by index, which a file cut short or with frames
+    // dropped would shift silently: evo refuses them unless both have as many poses.
+    const bool groundtruth_untimed = groundtruth_format == TrajectoryFormat::Kitti && request->groundtruth_times_path.empty();
+    const bool estimate_untimed = estimate_format == TrajectoryFormat::Kitti && request->estimate_times_path.empty();
+    if (groundtruth_untimed != estimate_untimed) {
+      throw InputError(estimate_untimed ? request->estimate_path : request->groundtruth_path,
                        "is a KITTI file (12 fields a line, no time) and " +
-                           (estimate_kitti ? request->groundtruth_path : request->estimate_path) +
-                           " is not: KITTI poses pair only with another KITTI file's, by index");
+                           (estimate_untimed ? request->groundtruth_path : request->estimate_path) +
+                           " is timed: give its times (" + (estimate_untimed ? "--estimate-times" : "--groundtruth-times") +
+                           "), or pair two KITTI files by index");
     }
-    if (groundtruth_format == TrajectoryFormat::Kitti && estimate_format == TrajectoryFormat::Kitti &&
-        groundtruth.size() != estimate.size())
+    if (groundtruth_untimed && estimate_untimed && groundtruth.size() != estimate.size())
       throw InputError(request->estimate_path + " against " + request->groundtruth_path,
                        "KITTI files pair their poses by index (they carry no time), so they must have as many: " +
                            std::to_string(estimate.size()) + " against " + std::to_string(groundtruth.size()));

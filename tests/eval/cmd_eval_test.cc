@@ -57,6 +57,49 @@ TEST(CmdEval, JsonHasTheSpecKeys) {
   EXPECT_NEAR(j["rpe"]["trans"]["max"].get<double>(), 0.0, 1e-9);
 }
 
+// A KITTI file with its times (KITTI's times.txt) pairs by time: with another KITTI file as by
+// index, and with a timed (TUM) file, which without the times is refused naming the option.
+TEST(CmdEval, KittiWithItsTimesPairsWithATimedFile) {
+  TempDir tmp;
+  const std::string kitti_pose = "1 0 0 %d 0 1 0 %d 0 0 1 0\n";
+  std::string kitti, times, tum;
+  for (int i = 0; i < 6; ++i) {
+    char line[96];
+    std::snprintf(line, sizeof line, kitti_pose.c_str(), i, i * i);
+    kitti += line;
+    std::snprintf(line, sizeof line, "%.6f\n", 5.0 + 0.1 * i);
+    times += line;
+    std::snprintf(line, sizeof line, "%.6f %d %d 0.2 0 0 0 1\n", 5.0 + 0.1 * i, i, i * i);
+    tum += line;
+  }
+  writeText(tmp.file("kitti.txt"), kitti);
+  writeText(tmp.file("times.txt"), times);
+  writeText(tmp.file("tum.txt"), tum);
+  const std::string eval = "eval --json --groundtruth " + tmp.file("kitti.txt");
+  const auto timed = runSlamcmp(eval + " --groundtruth-times " + tmp.file("times.txt") + " --estimate " + tmp.file("tum.txt"));
+  ASSERT_EQ(timed.exit_code, 0) << timed.err;
+  const nlohmann::json j = nlohmann::json::parse(timed.out);
+  EXPECT_EQ(j["matched"], 6);
+  EXPECT_NEAR(j["ate"]["trans"]["rmse"].get<double>(), 0.2, 1e-9);
+  const auto untimed = runSlamcmp(eval + " --estimate " + tmp.file("tum.txt"));
+  EXPECT_EQ(untimed.exit_code, 2);
+  EXPECT_EQ(lineCount(untimed.err), 1) << untimed.err;
+  EXPECT_NE(untimed.err.find("give its times (--groundtruth-times)"), std::string::npos) << untimed.err;
+  const auto both = runSlamcmp(eval + " --groundtruth-times " + tmp.file("times.txt") + " --estimate " +
+                               tmp.file("kitti.txt") + " --estimate-times " + tmp.file("times.txt"));
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  EXPECT_EQ(nlohmann::json::parse(both.out)["matched"], 6);
+  const auto misplaced = runSlamcmp(eval + " --estimate " + tmp.file("tum.txt") + " --estimate-times " + tmp.file("times.txt"));
+  EXPECT_EQ(misplaced.exit_code, 2);
+  EXPECT_NE(misplaced.err.find("--estimate-times: " + tmp.file("times.txt") + ": times go with a KITTI file"),
+            std::string::npos)
+      << misplaced.err;
+  writeText(tmp.file("short_times.txt"), "5.0\n5.1\n");
+  const auto short_times = runSlamcmp(eval + " --groundtruth-times " + tmp.file("short_times.txt") + " --estimate " + tmp.file("tum.txt"));
+  EXPECT_EQ(short_times.exit_code, 2);
+  EXPECT_NE(short_times.err.find(tmp.file("short_times.txt") + ": has fewer timestamps"), std::string::npos) << short_times.err;
+}
+
 TEST(CmdEval, TableByDefault) {
   TempDir tmp;
   writePair(tmp, 1.0);
