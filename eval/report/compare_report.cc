@@ -122,11 +122,11 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   // summary.json's nees is the mean of nees.csv: one without the other is not one run either.
   const bool nees_file = fs::exists(dir + "/nees.csv");
+  if (nees_file) r.nees = readNeesCsv(dir + "/nees.csv");
   if (nees_file != r.summary.contains("nees"))
     throw InputError(dir + (nees_file ? "/nees.csv" : "/summary.json"),
                      nees_file ? "is there but summary.json has no nees: the files are not from one run"
                                : "has nees but nees.csv is missing: the files are not from one run");
-  if (nees_file) r.nees = readNeesCsv(dir + "/nees.csv");
   if (seq.scene) {
     const bool scale_free = r.errors && r.errors->align == "sim3";
     r.map = readRunMap(dir + "/map.ply", scale_free ? &r.errors->T_gt_estimate : nullptr);
