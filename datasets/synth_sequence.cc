@@ -13,6 +13,7 @@
 #include "core/options.h"
 #include "core/progress.h"
 #include "core/target.h"
+#include "core/text_file.h"
 #include "core/trajectory.h"
 #include "core/yaml.h"
 #include "datasets/room_scene.h"
@@ -69,6 +70,42 @@ std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir) {
     throw InputError(info.string(), e.what());
   }
   return options;
+}
+
+std::string differenceFromItsRender(const std::string& sequence_dir, const SynthOptions& info) {
+  const fs::path dir(sequence_dir);
+  try {
+    const CameraModel rendered = syntheticCamera(info.preset);
+    const CameraModel camera = readCameraYaml((dir / "camera.yaml").string());
+    // As written and read back: to the text's precision.
+    const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * (1 + std::abs(b)); };
+    bool same_camera = camera.width == rendered.width && camera.height == rendered.height && same(camera.fx, rendered.fx) &&
+                       same(camera.fy, rendered.fy) && same(camera.cx, rendered.cx) && same(camera.cy, rendered.cy) &&
+                       camera.num_distortion == rendered.num_distortion;
+    for (int k = 0; k < rendered.num_distortion; ++k) same_camera = same_camera && same(camera.distortion[k], rendered.distortion[k]);
+    if (!same_camera) return "camera.yaml is not the preset's camera";
+    const ChessboardTarget target = readTargetYaml((dir / "target.yaml").string(), true);
+    const ChessboardTarget board = buildRoomScene(static_cast<std::uint64_t>(info.seed)).target;
+    if (target.cols != board.cols || target.rows != board.rows || target.square_size != board.square_size)
+      return "target.yaml is not the rendered board";
+    const double fps = findMotionPreset(info.preset).fps;
+    std::vector<std::string> lines;  // rgb.txt's, but its comments
+    std::ifstream list = openTextFile((dir / "rgb.txt").string());
+    for (std::string line; std::getline(list, line);)
+      if (!line.empty() && line[0] != '#') lines.push_back(line);
+    if (static_cast<int>(lines.size()) != info.frameCount())
+      return "rgb.txt lists " + std::to_string(lines.size()) + " frames, info.yaml " + std::to_string(info.frameCount());
+    for (size_t i = 0; i < lines.size(); ++i) {
+      char line[64];
+      std::snprintf(line, sizeof line, "%.6f rgb/%06zu.png", i / fps, i);
+      if (lines[i] != line) return "rgb.txt's line for frame " + std::to_string(i) + " is not the render's";
+    }
+    const cv::Mat first = cv::imread((dir / "rgb" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+    if (first.cols != rendered.width || first.rows != rendered.height) return "its images are not the render's size";
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 void writeSyntheticSequence(const SynthOptions& options, const std::string& out_dir) {

@@ -41,6 +41,11 @@ struct SynthOptions {
 // a synthetic sequence). Throws InputError naming the file and field for a malformed info.yaml.
 std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir);
 
+// "" when the folder is what its info.yaml renders (the camera, the board, the frames' list and
+// their size), else what differs: a copy of a render resized, cut or given another target keeps
+// the info.yaml, and a new render from it would not be that sequence.
+std::string differenceFromItsRender(const std::string& sequence_dir, const SynthOptions& info);
+
 // Renders the sequence into out_dir (created if needed; existing files are overwritten). Shows
 // progress on a terminal. Throws InputError if out_dir cannot be written.
 void writeSyntheticSequence(const SynthOptions& options, const std::string& out_dir);

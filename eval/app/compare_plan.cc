@@ -218,8 +218,19 @@ Plan makePlan(const CompareOptions& options) {
   // The trials' info.yaml read too before a folder is made: a refused compare, as a refused run,
   // leaves --out as it found it.
   std::vector<std::optional<SynthOptions>> synths;
-  for (const std::string& path : plan.sequences)
-    synths.push_back(options.trials > 1 ? readSynthInfo(path) : std::nullopt);
+  for (const std::string& path : plan.sequences) {
+    std::optional<SynthOptions> synth = options.trials > 1 ? readSynthInfo(path) : std::nullopt;
+    // A render copied and changed (resized, cut, another target) keeps its info.yaml: new renders
+    // from it would not be trials of that sequence, so it reruns as real data does.
+    if (synth) {
+      if (const std::string differs = differenceFromItsRender(path, *synth); !differs.empty()) {
+        std::cerr << path << ": warning: not what its info.yaml renders (" << differs
+                  << "): its trials rerun the back-ends with --seed k, not new renders\n";
+        synth.reset();
+      }
+    }
+    synths.push_back(std::move(synth));
+  }
 
   std::error_code ec;
   // An earlier compare's folder (its plan.json): its runs, logs, trial renders (sequences/seed<k>)

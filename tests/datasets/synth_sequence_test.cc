@@ -3,9 +3,13 @@
 #include <filesystem>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/camera.h"
 #include "core/sequence.h"
+#include "core/target.h"
 #include "datasets/room_scene.h"
 #include "datasets/scene_yaml.h"
 #include "datasets/synth_sequence.h"
@@ -148,6 +152,43 @@ TEST(SynthSequence, ARenderReplacesAnEarlierOnesFrames) {
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"000000.png", "000001.png", "notes.png"}));
+}
+
+// compare's trials render a synthetic sequence anew from its info.yaml only while the folder is
+// that render: a copy resized, cut or given another board is not.
+TEST(SynthSequence, AFolderChangedFromItsRenderIsToldApart) {
+  for (const char* preset : {"tv1", "handheld_rpy", "roll_distortion"}) {
+    test::TempDir dir;
+    SynthOptions options;
+    options.preset = preset;
+    options.frames = 3;
+    options.supersample = 1;
+    options.seed = 4;
+    writeSyntheticSequence(options, dir.path());
+    const auto info = readSynthInfo(dir.path());
+    ASSERT_TRUE(info.has_value());
+    EXPECT_EQ(differenceFromItsRender(dir.path(), *info), "") << preset;
+    if (std::string(preset) != "tv1") continue;
+    std::string rgb;
+    for (const std::string& line : test::readLines(dir.file("rgb.txt"))) rgb += line + "\n";
+    test::writeText(dir.file("rgb.txt"), rgb.substr(0, rgb.rfind('\n', rgb.size() - 2) + 1));
+    EXPECT_EQ(differenceFromItsRender(dir.path(), *info), "rgb.txt lists 2 frames, info.yaml 3");
+    test::writeText(dir.file("rgb.txt"), rgb);
+    ChessboardTarget target = readTargetYaml(dir.file("target.yaml"), true);
+    target.square_size *= 2;
+    writeTargetYaml(dir.file("target.yaml"), target);
+    EXPECT_EQ(differenceFromItsRender(dir.path(), *info), "target.yaml is not the rendered board");
+    target.square_size /= 2;
+    writeTargetYaml(dir.file("target.yaml"), target);
+    cv::Mat image = cv::imread(dir.file("rgb/000000.png"), cv::IMREAD_UNCHANGED), half;
+    cv::resize(image, half, cv::Size(320, 240));
+    cv::imwrite(dir.file("rgb/000000.png"), half);
+    EXPECT_EQ(differenceFromItsRender(dir.path(), *info), "its images are not the render's size");
+    CameraModel camera = readCameraYaml(dir.file("camera.yaml"));
+    camera.fx *= 0.5;
+    writeCameraYaml(dir.file("camera.yaml"), camera);
+    EXPECT_EQ(differenceFromItsRender(dir.path(), *info), "camera.yaml is not the preset's camera");
+  }
 }
 
 TEST(SynthSequence, UnwritableOutputIsAnInputError) {

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/target.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/compare.h"
 #include "tests/test_util.h"
@@ -212,6 +213,24 @@ TEST(CompareExperiment, RealSequencesTakeTheBackEndSeedAndBadSweepsAreRefused) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cslam.features.max_features"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("many"), std::string::npos) << e.what();
+  }
+  // A render copied and changed (here another square size) keeps its info.yaml; its trials are
+  // its back-ends' seeds, not new renders of another board.
+  {
+    const std::string changed = tmp.file("changed");
+    const std::string rendered = renderTv1(tmp, 12);
+    fs::copy(rendered, changed, fs::copy_options::recursive);
+    ChessboardTarget target = readTargetYaml(changed + "/target.yaml", true);
+    target.square_size *= 2;
+    writeTargetYaml(changed + "/target.yaml", target);
+    CompareOptions copied = shortCompare(changed, "cslam", tmp.file("copied"));
+    copied.trials = 2;
+    planCompare(copied);
+    const std::string copied_jobs = readFile(tmp.file("copied/jobs.txt"));
+    EXPECT_NE(copied_jobs.find("--sequence " + changed + " --out " + tmp.file("copied/runs/changed-cslam-t2") + " --seed 2"),
+              std::string::npos)
+        << copied_jobs;
+    EXPECT_FALSE(fs::exists(tmp.file("copied/sequences")));
   }
   // Values written apart but read alike would run the same runs twice.
   for (const auto& [sweep, said] : std::vector<std::pair<std::string, std::string>>{
