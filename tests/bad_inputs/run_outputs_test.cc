@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -120,6 +121,30 @@ TEST(RunOutputs, ARunTooShortToScoreIsWarnedAbout) {
   ASSERT_EQ(two.exit_code, 0) << two.err;
   EXPECT_EQ(two.err, "");
   EXPECT_TRUE(nlohmann::json::parse(readFile(out + "/summary.json")).contains("ate"));
+}
+
+// A board described wrong (its inner corner counts swapped; its square size doubled) poses every
+// frame in a world turned or scaled against the ground truth's: said, with the fit that shows it.
+TEST(RunOutputs, ABoardDescribedWrongIsHintedAt) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  const std::string target = readFile(seq + "/target.yaml");
+  const auto hint = [&](const std::string& changed_target) {
+    writeText(seq + "/target.yaml", changed_target);
+    const auto r = test::runSlamcmp("run --backend cslam --sequence " + seq + " --out " + tmp.file("out"));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_LE(lineCount(r.err), 1) << r.err;
+    const nlohmann::json summary = nlohmann::json::parse(readFile(tmp.file("out/summary.json")));
+    return std::make_pair(r.err, summary.value("metrics_warning", ""));
+  };
+  const std::string swapped = hint(std::regex_replace(std::regex_replace(target, std::regex("inner_corners_cols: 9"), "inner_corners_cols: 6"),
+                                    std::regex("inner_corners_rows: 6"), "inner_corners_rows: 9")).second;
+  EXPECT_NE(swapped.find("degree turn"), std::string::npos) << swapped;
+  EXPECT_NE(swapped.find("is target.yaml's square_size or are its inner corner counts right?"), std::string::npos);
+  const std::string doubled =
+      hint(std::regex_replace(target, std::regex("square_size: [^\n]*"), "square_size: 0.08")).second;
+  EXPECT_NE(doubled.find("a scale of 0.50"), std::string::npos) << doubled;
+  EXPECT_EQ(hint(target).second, "");
 }
 
 // A compare of cslam on tv1's first 10 frames into tmp/c; the run's folder.
