@@ -168,6 +168,9 @@ void addEvalCommand(CLI::App& app) {
     } catch (const InputError& e) {  // name the two files the problem is about
       throw InputError(request->estimate_path + " against " + request->groundtruth_path, e.what());
     }
+    if (!evaluation.ate_rot_warning.empty())
+      std::cerr << request->estimate_path << " against " << request->groundtruth_path
+                << ": warning: " << evaluation.ate_rot_warning << "\n";
     if (request->json) {
       nlohmann::json j = evaluationToJson(evaluation, request->options);
       if (map_evaluation) j["map"] = mapJson(*map_evaluation);

@@ -42,6 +42,9 @@ struct TrajectoryEvaluation {
   Similarity3 T_gt_estimate;  // the alignment applied (identity for none; scale 1 unless sim3)
   // Per matched pose: |t_gt - t_est| (m) and the angle of R_gt^T R_est (degrees), after alignment.
   std::vector<double> ate_trans, ate_rot_deg;
+  // Aligned (se3, sim3) on positions nearly on one line: its turn about the line, and so the
+  // rotation error, is not determined; why, or "".
+  std::string ate_rot_warning;
   Vec3 ate_axis_rmse = Vec3::Zero();  // m, rms of t_est - t_gt along x, y, z
   Statistics ate_trans_stats, ate_rot_deg_stats;
   // Per pair (i, i + delta), i = 0, delta, 2 delta, ... over the matched poses (every i with

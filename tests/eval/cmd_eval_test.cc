@@ -100,6 +100,35 @@ TEST(CmdEval, KittiWithItsTimesPairsWithATimedFile) {
   EXPECT_NE(short_times.err.find(tmp.file("short_times.txt") + ": has fewer timestamps"), std::string::npos) << short_times.err;
 }
 
+// Aligned on positions nearly on one line, the fit's turn about the line is free: the rotation
+// error is said to be undetermined (stderr, and ate.rot_warning), not on a curve.
+TEST(CmdEval, AnAlignmentAlongALineSaysItsRotationIsUndetermined) {
+  TempDir tmp;
+  std::string gt, est;
+  for (int i = 0; i < 10; ++i) {
+    char line[128];
+    std::snprintf(line, sizeof line, "%.6f %.4f %.5f 0 0 0 0 1\n", 10.0 + 0.1 * i, 0.01 * i, 0.0002 * (i % 2));
+    gt += line;
+    std::snprintf(line, sizeof line, "%.6f %.4f %.5f 0.002 0 0 0 1\n", 10.0 + 0.1 * i, 0.01 * i, 0.002 * (i % 3));
+    est += line;
+  }
+  writeText(tmp.file("gt.txt"), gt);
+  writeText(tmp.file("est.txt"), est);
+  const auto r = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") +
+                            " --align se3 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("warning: the matched positions lie nearly on a line"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j["ate"].value("rot_warning", "").find("is not determined"), std::string::npos) << j.dump();
+  writePair(tmp, 1.0);  // a parabola
+  const auto curve = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") +
+                                " --align se3 --json");
+  ASSERT_EQ(curve.exit_code, 0) << curve.err;
+  EXPECT_EQ(curve.err, "");
+  EXPECT_FALSE(nlohmann::json::parse(curve.out)["ate"].contains("rot_warning"));
+}
+
 TEST(CmdEval, TableByDefault) {
   TempDir tmp;
   writePair(tmp, 1.0);
