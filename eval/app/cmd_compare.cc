@@ -51,6 +51,12 @@ void addCompareCommand(CLI::App& app) {
                                "write DIR/plan.json, DIR/jobs.txt (one `slamcmp run` a line: `parallel < jobs.txt`) "
                                "and DIR/slurm.sbatch (`sbatch DIR/slurm.sbatch`) instead of running")
                    ->check(nonEmptyPath());
+  auto* array_tasks = cmd->add_option("--array-tasks", options->array_tasks,
+                                      "with --plan: the Slurm array's tasks at most (a cluster's MaxArraySize - 1); "
+                                      "task k runs lines k, k + N, ... of jobs.txt")
+                          ->check(CLI::Range(1, 1000000))
+                          ->capture_default_str();
+  array_tasks->needs(plan);
   auto* collect = cmd->add_option("--collect", *collect_dir,
                                   "the report of a plan's finished runs, into DIR, exactly as compare writes it "
                                   "(every other option comes from DIR/plan.json)")

@@ -134,7 +134,7 @@ std::string absoluteDir(const std::string& dir) { return fs::absolute(dir).lexic
 
 size_t planCompare(const CompareOptions& options) {
   const Plan plan = makePlan(options);
-  writePlanFiles(plan, absoluteDir(options.out_dir));
+  writePlanFiles(plan, absoluteDir(options.out_dir), options.array_tasks);
   return plan.runs.size();
 }
 
@@ -191,7 +191,7 @@ void sayCompareReport(const std::string& dir, const std::string& report, const s
 std::string runCompare(const CompareOptions& options, std::vector<UnfinishedRun>* unfinished) {
   const Plan plan = makePlan(options);
   const std::string dir = absoluteDir(options.out_dir);
-  writePlanFiles(plan, dir);
+  writePlanFiles(plan, dir, options.array_tasks);
   const bool finished = runPlannedJobs(plan, dir, options.jobs);
   std::vector<UnfinishedRun> not_finished;
   const std::string report = collectCompare(dir, &not_finished);

@@ -31,6 +31,9 @@ struct CompareOptions {
   // defaults when "defaults" is among them or none has its section; the sweeps apply to each.
   std::vector<std::string> configs;
   std::string slamcmp;  // the binary the runs execute; "" = this process's own (tests give slamcmp's)
+  // --plan's Slurm array: at most this many tasks, task k running lines k, k + n, ... of jobs.txt
+  // (Slurm's default MaxArraySize, 1001, takes indices up to 1000).
+  int array_tasks = 1000;
 };
 
 // A run of a compare that did not finish, as its report lists it.

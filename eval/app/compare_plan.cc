@@ -314,7 +314,7 @@ std::string jobLine(const PlannedRun& run, const std::string& dir) {
   return line + " > " + shellQuoted((fs::path(dir) / run.log).string()) + " 2>&1";
 }
 
-void writePlanFiles(const Plan& plan, const std::string& dir) {
+void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks) {
   auto write = [&](const std::string& name, const std::string& text) {
     const std::string path = (fs::path(dir) / name).string();
     std::ofstream out(path);
@@ -325,26 +325,22 @@ void writePlanFiles(const Plan& plan, const std::string& dir) {
   std::string jobs;
   for (const PlannedRun& run : plan.runs) jobs += jobLine(run, dir) + "\n";
   write("jobs.txt", jobs);
-  // Slurm refuses an array beyond MaxArraySize (1001 by default: indices up to 1000), so a larger
-  // plan is written as kMaxArrayTasks tasks, task k running lines k, k + n, k + 2n, ... of
-  // jobs.txt, n the array's task count as submitted: `sbatch --array=1-50` runs the plan in 50.
-  constexpr size_t kMaxArrayTasks = 1000;
+  const size_t tasks = std::min(plan.runs.size(), static_cast<size_t>(std::max(array_tasks, 1)));
   const std::string jobs_path = shellQuoted((fs::path(dir) / "jobs.txt").string());
   std::ostringstream sbatch;
   sbatch << "#!/bin/bash\n"
-         << "# slamcmp compare --plan: a Slurm array job over jobs.txt (one `slamcmp run` a line); task k of n\n"
-         << "# runs lines k, k + n, k + 2n, ... (`sbatch --array=1-N` with any N runs them all).\n"
+         << "# slamcmp compare --plan: a Slurm array job over jobs.txt (one `slamcmp run` a line): task k runs\n"
+         << "# lines k, k + " << tasks << ", k + " << 2 * tasks << ", ... (`sbatch --array=K` reruns task K's).\n"
          << "# Submit with `sbatch " << shellQuoted((fs::path(dir) / "slurm.sbatch").string())
          << "`; once every task is done, `slamcmp compare --collect " << shellQuoted(dir) << "`.\n"
          << "#SBATCH --job-name=slamcmp\n"
-         << "#SBATCH --array=1-" << std::min(plan.runs.size(), kMaxArrayTasks) << "\n"
+         << "#SBATCH --array=1-" << tasks << "\n"
          << "#SBATCH --ntasks=1\n"
          << "#SBATCH --cpus-per-task=1\n"
          // Slurm splits a directive at spaces unless the value is in double quotes.
          << "#SBATCH --output=\"" << (fs::path(dir) / "logs" / "slurm-%A_%a.out").string() << "\"\n"
-         << "first=$(( (SLURM_ARRAY_TASK_ID - ${SLURM_ARRAY_TASK_MIN:-1}) / ${SLURM_ARRAY_TASK_STEP:-1} + 1 ))\n"
          << "status=0\n"
-         << "for k in $(seq \"$first\" \"${SLURM_ARRAY_TASK_COUNT:-1}\" \"$(wc -l < " << jobs_path << ")\"); do\n"
+         << "for k in $(seq \"${SLURM_ARRAY_TASK_ID:-1}\" " << tasks << " " << plan.runs.size() << "); do\n"
          << "  line=$(sed -n \"${k}p\" " << jobs_path << ")\n"
          << "  /bin/sh -c \"$line\" || status=$?\n"
          << "done\n"

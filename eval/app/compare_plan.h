@@ -15,8 +15,10 @@ namespace slamcmp {
 // old folders and logs, so that a collect never reads a previous plan's run.
 Plan makePlan(const CompareOptions& options);
 
-// plan.json, jobs.txt and slurm.sbatch in `dir` (the plan's absolute folder).
-void writePlanFiles(const Plan& plan, const std::string& dir);
+// plan.json, jobs.txt and slurm.sbatch in `dir` (the plan's absolute folder); the Slurm array has
+// min(runs, array_tasks) tasks, task k running lines k, k + n, ... (n that count), so a task's id
+// names the same runs however the array is submitted (`sbatch --array=3` reruns task 3).
+void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks = 1000);
 
 // `s` as one word for sh: as it is when it holds only safe characters, else in single quotes.
 std::string shellQuoted(const std::string& s);
