@@ -84,6 +84,35 @@ std::vector<OptionFile> optionFilesOf(const std::string& backend, const std::vec
   return own;
 }
 
+// Where trial k's render of a given sequence goes.
+fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "sequences" / ("seed" + std::to_string(trial)); }
+
+// An earlier compare's folder (its plan.json): its runs, logs, figures and trial renders go, or the
+// new report would sit beside the old experiment's. Only the folders trialRenderFolder names, not
+// through a link, and not one that is or holds a sequence given now (reproduce renders tv1..tv4
+// into sequences/: its second run into the same folder found them gone).
+void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>& given) {
+  std::error_code ec;
+  for (const char* sub : {"runs", "logs", "figures"}) fs::remove_all(dir / sub, ec);
+  std::vector<fs::path> renders;
+  for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code link_ec;
+    if (name.size() > 4 && name.size() < 14 && name.find_first_not_of("0123456789", 4) == std::string::npos &&
+        it->path() == trialRenderFolder(dir, std::stoi(name.substr(4))) && !it->is_symlink(link_ec))
+      renders.push_back(it->path());
+  }
+  for (const fs::path& render : renders) {
+    const std::string folder = fs::weakly_canonical(render, ec).string();
+    const bool holds_given = std::any_of(given.begin(), given.end(), [&](const std::string& sequence) {
+      const std::string path = fs::weakly_canonical(sequence, ec).string();
+      return path == folder || path.rfind(folder + "/", 0) == 0;
+    });
+    if (!holds_given) fs::remove_all(render, ec);
+  }
+  fs::remove(dir / "sequences", ec);  // when empty
+}
+
 // "SECTION.KEY=V1,V2,..." checked: a back-end among the methods, an option it has, values it takes
 // on top of each of its option files.
 Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, const std::vector<OptionFile>& files) {
@@ -233,26 +262,7 @@ Plan makePlan(const CompareOptions& options) {
   }
 
   std::error_code ec;
-  // An earlier compare's folder (its plan.json): its runs, logs, trial renders (sequences/seed<k>)
-  // and figures go, or the new report would sit beside the old experiment's figures and run
-  // folders. A given sequence in sequences/ stays (reproduce renders tv1..tv4 there: its second
-  // run into the same folder found them gone).
-  if (fs::exists(dir / "plan.json", ec)) {
-    for (const char* sub : {"runs", "logs", "figures"}) fs::remove_all(dir / sub, ec);
-    std::vector<fs::path> renders;
-    for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {
-      const std::string name = it->path().filename().string();
-      if (name.size() > 4 && name.rfind("seed", 0) == 0 && name.find_first_not_of("0123456789", 4) == std::string::npos)
-        renders.push_back(fs::weakly_canonical(it->path(), ec));
-    }
-    for (const fs::path& render : renders) {
-      const bool holds_given = std::any_of(plan.sequences.begin(), plan.sequences.end(), [&](const std::string& given) {
-        return fs::weakly_canonical(given, ec).string().rfind(render.string() + "/", 0) == 0;
-      });
-      if (!holds_given) fs::remove_all(render, ec);
-    }
-    fs::remove(dir / "sequences", ec);  // when empty
-  }
+  if (fs::exists(dir / "plan.json", ec)) removeEarlierExperiment(dir, plan.sequences);
   for (const char* sub : {"runs", "logs", "figures"}) {
     fs::create_directories(dir / sub, ec);
     if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());
@@ -270,7 +280,7 @@ Plan makePlan(const CompareOptions& options) {
         render.seed = trial;
         render.frames = options.max_frames > 0 ? std::min(synth->frameCount(), options.max_frames) : synth->frameCount();
         if (synth->seed != trial || synth->frameCount() < render.frames) {
-          sequence_path = (dir / "sequences" / ("seed" + std::to_string(trial)) / plan.sequence_names[s]).string();
+          sequence_path = (trialRenderFolder(dir, trial) / plan.sequence_names[s]).string();
           std::cerr << "rendering " << sequence_path << " (" << render.frames << " frames)\n";
           writeSyntheticSequence(render, sequence_path);
           if (interrupted()) throw Interrupted("interrupted while rendering " + sequence_path + "; nothing ran");

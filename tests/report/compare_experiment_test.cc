@@ -294,6 +294,20 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   EXPECT_EQ(readResults(tmp.file("r/results.csv")).size(), 1u);
   EXPECT_TRUE(fs::exists(tmp.file("r/sequences/tv1/rgb.txt")));
   EXPECT_FALSE(fs::exists(tmp.file("r/sequences/seed2")));
+
+  // Nor one given that is a trial render's folder itself, nor a user's folder behind a link of
+  // that name.
+  writeSyntheticSequence(synth, tmp.file("r/sequences/seed3"));
+  fs::create_directories(tmp.file("mine"));
+  test::writeText(tmp.file("mine/notes.txt"), "the user's\n");
+  fs::create_directory_symlink(tmp.file("mine"), tmp.file("r/sequences/seed5"));
+  CompareOptions seed3 = shortCompare(tmp.file("r/sequences/seed3"), "cslam", tmp.file("r"));
+  runCompare(seed3);
+  runCompare(seed3);
+  EXPECT_EQ(readResults(tmp.file("r/results.csv")).size(), 1u);
+  EXPECT_TRUE(fs::exists(tmp.file("r/sequences/seed3/rgb.txt")));
+  EXPECT_TRUE(fs::exists(tmp.file("mine/notes.txt")));
+  EXPECT_TRUE(fs::is_symlink(tmp.file("r/sequences/seed5")));
 }
 
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
