@@ -106,14 +106,14 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
     entries.push_back({t, image.string()});
   }
   if (entries.empty()) throw InputError(list, "lists no frames");
-  // Timestamps in a smaller unit than the list's (EuRoC's seconds where nanoseconds belong) pass
-  // every check above and put the frames nanoseconds apart.
+  // Timestamps in a larger unit than the list's (seconds in EuRoC's nanosecond list) pass every
+  // check above and put the frames nanoseconds apart.
   constexpr double kMaxFps = 1e5;
   if (const double fps = medianRate(entries); fps > kMaxFps) {
     std::ostringstream why;
     why << "timestamps a median " << 1 / fps << " s apart (" << fps << " fps): this list's timestamps are "
         << (layout.units_per_second == 1 ? "seconds" : "nanoseconds") << ", are these "
-        << (layout.units_per_second == 1e9 ? "seconds?" : "a smaller unit?");
+        << (layout.units_per_second == 1e9 ? "seconds?" : "a larger unit?");
     throw InputError(list, why.str());
   }
   return entries;

@@ -65,7 +65,8 @@ struct SequenceOpenOptions {
   // reads the sequences after its runs were interrupted, reads on.
   bool stop_on_interrupt = true;
   // calibrate makes the camera file: the sequence's own (camera.yaml, EuRoC's sensor.yaml) is not
-  // read, so a broken one can be replaced.
+  // read, so a broken one can be replaced. EuRoC's ground truth is then the body's, not the
+  // camera's (sensor.yaml's T_BS is not read either): for calibrate only.
   bool read_camera = true;
 };
 

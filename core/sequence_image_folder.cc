@@ -1,5 +1,6 @@
 // A plain folder of images: the frames in file name order (numbers by value: frame2 before frame10,
-// as a file browser lists them), timestamped at a rate the user gives.
+// as a file browser lists them; 1403636579.25 before 1403636579.5), timestamped at a rate the user
+// gives.
 #include <algorithm>
 
 #include "core/error.h"
@@ -15,11 +16,12 @@ namespace {
 
 bool isImageFile(const fs::path& p) {
   const std::string ext = lowerExtension(p.string());
-  static const char* kExt[] = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".webp"};
+  static const char* kExt[] = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm", ".pfm", ".webp"};
   return std::any_of(std::begin(kExt), std::end(kExt), [&](const char* e) { return ext == e; });
 }
 
-// Digit runs compared by their value (then by length: 01 after 1), the rest byte by byte.
+// Digit runs compared by their value (then by length: 01 after 1), the rest byte by byte; the
+// digits after a decimal point (a digit, then '.') as a fraction, byte by byte: 0.25 before 0.5.
 bool naturalLess(const std::string& a, const std::string& b) {
   size_t i = 0, j = 0;
   const auto digit = [](char c) { return c >= '0' && c <= '9'; };
@@ -28,6 +30,12 @@ bool naturalLess(const std::string& a, const std::string& b) {
       const size_t a0 = i, b0 = j;
       while (i < a.size() && digit(a[i])) ++i;
       while (j < b.size() && digit(b[j])) ++j;
+      // The same characters precede both runs here, so both are fractions or neither is.
+      if (a0 >= 2 && a[a0 - 1] == '.' && digit(a[a0 - 2])) {
+        const int c = a.compare(a0, i - a0, b, b0, j - b0);
+        if (c != 0) return c < 0;
+        continue;
+      }
       // Leading zeros aside, the longer run is the larger number; of equal length, the first
       // differing digit decides.
       const size_t az = a.find_first_not_of('0', a0), bz = b.find_first_not_of('0', b0);

@@ -121,13 +121,17 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   const CameraMotion motion(options.preset, static_cast<std::uint64_t>(options.seed));
   const MotionPreset& preset = findMotionPreset(options.preset);
   // An earlier sequence's lists and frames go first: an interruption must not leave them beside
-  // this one's files, nor a longer one's frames beyond this one's in rgb/ (synth's names only).
+  // this one's files, nor a longer render's frames beyond this one's in rgb/ (only in an earlier
+  // render's folder, its info.yaml, and by synth's names: a user's numbered frames stay).
+  const bool earlier_render = fs::is_regular_file(out / "info.yaml", ec);
   for (const char* list : {"rgb.txt", "groundtruth.txt"}) fs::remove(out / list, ec);
   std::vector<fs::path> old_frames;
-  for (fs::directory_iterator it(out / "rgb", ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.size() == 10 && name.compare(6, 4, ".png") == 0 && name.find_first_not_of("0123456789") == 6)
-      old_frames.push_back(it->path());
+  if (earlier_render) {
+    for (fs::directory_iterator it(out / "rgb", ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (name.size() == 10 && name.compare(6, 4, ".png") == 0 && name.find_first_not_of("0123456789") == 6)
+        old_frames.push_back(it->path());
+    }
   }
   for (const fs::path& frame : old_frames) fs::remove(frame, ec);
   writeCameraYaml((out / "camera.yaml").string(), camera);

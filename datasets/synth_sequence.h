@@ -46,8 +46,9 @@ std::optional<SynthOptions> readSynthInfo(const std::string& sequence_dir);
 // the info.yaml, and a new render from it would not be that sequence.
 std::string differenceFromItsRender(const std::string& sequence_dir, const SynthOptions& info);
 
-// Renders the sequence into out_dir (created if needed; existing files are overwritten). Shows
-// progress on a terminal. Throws InputError if out_dir cannot be written.
+// Renders the sequence into out_dir (created if needed; existing files are overwritten, and an
+// earlier render's frames there removed). Shows progress on a terminal. Throws InputError if
+// out_dir cannot be written.
 void writeSyntheticSequence(const SynthOptions& options, const std::string& out_dir);
 
 }  // namespace slamcmp

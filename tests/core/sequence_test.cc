@@ -169,11 +169,14 @@ TEST(Sequence, OpensPlainImageFolderInNameOrder) {
   EXPECT_EQ(cv::norm(frames[0].grey, testImage(32, 24, 1), cv::NORM_INF), 0.0);  // PNG is lossless
 }
 
-// Numbered names without zeros in front play in their numbers' order, not their bytes'.
+// Numbered names without zeros in front play in their numbers' order, not their bytes'; decimal
+// timestamps (trailing zeros trimmed) in theirs.
 TEST(Sequence, PlainImageFolderNumbersInOrderOfValue) {
   test::TempDir dir;
-  const std::vector<std::string> names = {"frame1.png", "frame2.png", "frame9.png", "frame10.png", "frame11.png",
-                                          "frame011.png", "frame100.png", "frame100a.png", "framez.png"};
+  const std::vector<std::string> names = {"0.125.png",  "0.25.png",    "0.5.png",      "0.75.png",     "2.5.png",
+                                          "10.05.png",  "10.1.png",    "frame1.png",   "frame2.png",   "frame9.png",
+                                          "frame10.png", "frame11.png", "frame011.png", "frame100.png", "frame100a.png",
+                                          "framez.png", "img.2.png",   "img.10.png"};
   for (size_t k = 0; k < names.size(); ++k) writeImage(dir.file(names[names.size() - 1 - k]), testImage(8, 6, 0));
   SequenceOpenOptions options;
   options.images_fps = 10.0;

@@ -152,6 +152,12 @@ TEST(SynthSequence, ARenderReplacesAnEarlierOnesFrames) {
     names.push_back(entry.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"000000.png", "000001.png", "notes.png"}));
+  // Not a render's folder (no info.yaml): a user's own numbered frames there stay.
+  test::TempDir user;
+  std::filesystem::create_directories(user.file("rgb"));
+  test::writeText(user.file("rgb/000007.png"), "the user's");
+  writeSyntheticSequence(options, user.path());
+  EXPECT_TRUE(std::filesystem::exists(user.file("rgb/000007.png")));
 }
 
 // compare's trials render a synthetic sequence anew from its info.yaml only while the folder is
