@@ -259,6 +259,8 @@ nlohmann::json runSequence(const RunRequest& request) {
   if (seq.groundtruth && recorder.tracked() > 0) {
     try {
       const Trajectory estimate = readTrajectory(recorder.trajectoryPath(), TrajectoryFormat::Tum);
+      // A run started from the board is in the board's world, as its ground truth must then be.
+      const bool board_world = !backend.takes_init || context.init == InitSource::Board;
       Similarity3 T_gt_estimate;
       if (const auto errors = evaluateRun(*seq.groundtruth, estimate, scale_free ? "sim3" : "none")) {
         extra["ate"] = errors->json["ate"];
@@ -267,15 +269,14 @@ nlohmann::json runSequence(const RunRequest& request) {
         if (scale_free) {
           extra["scale"] = T_gt_estimate.scale;
           T_gt_scale_free = T_gt_estimate;
-        } else if (const std::string hint = boardWorldHint(*seq.groundtruth, estimate, errors->ate_trans_rmse);
+        } else if (const std::string hint = board_world ? boardWorldHint(*seq.groundtruth, estimate, errors->ate_trans_rmse) : "";
                    !hint.empty()) {
           std::cerr << seq.groundtruth_path << ": warning: " << hint << "\n";
           extra["metrics_warning"] = hint;
         }
       }
-      // Scored by what the true camera sees of the board: for a run whose world is the board's
-      // (started from it), as the ground truth's must then be; not once no frame sees a corner.
-      const bool board_world = !backend.takes_init || context.init == InitSource::Board;
+      // Scored by what the true camera sees of the board: for a run in the board's world; not once
+      // no frame sees a corner.
       if (board_world && seq.camera && seq.target) {
         const auto board_frames = boardViewFrames(frame_timestamps, *seq.groundtruth, estimate, *seq.camera,
                                                   *seq.target, EvalOptions{}.max_diff);
