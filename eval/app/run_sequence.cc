@@ -14,7 +14,6 @@
 #include <opencv2/core/utility.hpp>
 
 #include "core/error.h"
-#include "core/format_string.h"
 #include "core/frame_prefetcher.h"
 #include "core/interrupt.h"
 #include "core/map_ply.h"
@@ -68,28 +67,6 @@ void setInitialisation(const std::string& init, const Sequence& seq, TrackerCont
   } else {
     throw InputError("--init", "must be board, groundtruth, manual:FILE or none, got '" + init + "'");
   }
-}
-
-// A run started from the board is in the board's world, as its ground truth must be: when a
-// similarity fits it far better than none, with a scale or a turn, the board was described wrong
-// (its square size; its inner corners' counts swapped turn it by 90 degrees), or the ground truth
-// is in another frame. "" otherwise, and where the Sim(3) fit cannot be made.
-std::string boardWorldHint(const Trajectory& groundtruth, const Trajectory& estimate, double ate_rmse_m) {
-  constexpr double kMinAte = 0.01, kMinGain = 5, kMinScaleOff = 0.05, kMinTurnDeg = 5;
-  if (!(ate_rmse_m > kMinAte)) return "";
-  std::optional<RunErrors> fitted;
-  try {
-    fitted = evaluateRun(groundtruth, estimate, "sim3");
-  } catch (const InputError&) {
-    return "";
-  }
-  if (!fitted || !(fitted->ate_trans_rmse * kMinGain < ate_rmse_m)) return "";
-  const double scale = fitted->T_gt_estimate.scale;
-  const double turn_deg = rotationAngle(fitted->T_gt_estimate.R) * 180 / M_PI;
-  if (std::abs(scale - 1) < kMinScaleOff && turn_deg < kMinTurnDeg) return "";
-  return formatString("the trajectory fits it after a scale of %.3f and a %.1f degree turn (ATE %.4g m without, "
-                      "%.4g m with): is target.yaml's square_size or are its inner corner counts right?",
-                      scale, turn_deg, ate_rmse_m, fitted->ate_trans_rmse);
 }
 
 }  // namespace
@@ -269,7 +246,7 @@ nlohmann::json runSequence(const RunRequest& request) {
         if (scale_free) {
           extra["scale"] = T_gt_estimate.scale;
           T_gt_scale_free = T_gt_estimate;
-        } else if (const std::string hint = board_world ? boardWorldHint(*seq.groundtruth, estimate, errors->ate_trans_rmse) : "";
+        } else if (const std::string hint = board_world ? boardWorldMismatch(*seq.groundtruth, estimate, errors->ate_trans_rmse) : "";
                    !hint.empty()) {
           std::cerr << seq.groundtruth_path << ": warning: " << hint << "\n";
           extra["metrics_warning"] = hint;

@@ -1,5 +1,9 @@
 #include "eval/metrics/run_errors.h"
 
+#include <cmath>
+
+#include "core/error.h"
+#include "core/format_string.h"
 #include "eval/metrics/trajectory_metrics.h"
 
 namespace slamcmp {
@@ -21,6 +25,34 @@ std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajec
   r.drift = e.drift;
   r.json = evaluationToJson(e, options);
   return r;
+}
+
+std::string boardWorldMismatch(const Trajectory& groundtruth, const Trajectory& estimate, double ate_rmse_m) {
+  constexpr double kMinAte = 0.01, kMinGain = 5, kMinScaleOff = 0.05, kMinTurnDeg = 5;
+  if (!(ate_rmse_m > kMinAte)) return "";
+  std::optional<RunErrors> fitted;
+  try {
+    fitted = evaluateRun(groundtruth, estimate, "sim3");
+  } catch (const InputError&) {
+    return "";
+  }
+  if (!fitted || !(fitted->ate_trans_rmse * kMinGain < ate_rmse_m)) return "";
+  // A run gone astray also fits better once shrunk onto the truth's middle: the fit must leave
+  // errors small against how far the true camera moved.
+  constexpr double kMaxFitOverSpread = 0.1;
+  Vec3 mean = Vec3::Zero();
+  for (const StampedPose& pose : groundtruth) mean += pose.T_world_camera.t();
+  mean /= static_cast<double>(groundtruth.size());
+  double spread2 = 0;
+  for (const StampedPose& pose : groundtruth) spread2 += (pose.T_world_camera.t() - mean).squaredNorm();
+  if (!(fitted->ate_trans_rmse < kMaxFitOverSpread * std::sqrt(spread2 / static_cast<double>(groundtruth.size()))))
+    return "";
+  const double scale = fitted->T_gt_estimate.scale;
+  const double turn_deg = rotationAngle(fitted->T_gt_estimate.R) * 180 / M_PI;
+  if (std::abs(scale - 1) < kMinScaleOff && turn_deg < kMinTurnDeg) return "";
+  return formatString("the trajectory fits it after a scale of %.3f and a %.1f degree turn (ATE %.4g m without, "
+                      "%.4g m with): is target.yaml's square_size or are its inner corner counts right?",
+                      scale, turn_deg, ate_rmse_m, fitted->ate_trans_rmse);
 }
 
 }  // namespace slamcmp

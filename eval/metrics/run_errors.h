@@ -30,4 +30,10 @@ struct RunErrors {
 std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajectory& estimate,
                                      const std::string& align = "none");
 
+// For a run started from the board, which is in the board's world as its ground truth must be:
+// "" unless a similarity fits it far better than none (5 times), with a scale or a turn (5 % or 5
+// degrees), and to within a tenth of how far the true camera moved; then the fit and the likely
+// cause (target.yaml's square size; its inner corner counts swapped turn the world by 90 degrees).
+std::string boardWorldMismatch(const Trajectory& groundtruth, const Trajectory& estimate, double ate_rmse_m);
+
 }  // namespace slamcmp

@@ -26,9 +26,10 @@ nlohmann::json statisticsToJson(const Statistics& s) {
 nlohmann::json axesToJson(const Vec3& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
 
 // The alignment's turn about the matched positions' main axis is fixed by how far they spread
-// across it: under ten times the ATE the turn is uncertain by more than a tenth of a radian, and a
-// rotation error of tens of degrees may be the fit's alone (a Sim(3) of 40 frames along 0.1 m
-// with 3 mm across: 99 degrees where the positions were 1-6 mm off).
+// across it: on a line (across under a tenth of along) and across under ten times the ATE, the
+// turn is uncertain by more than a tenth of a radian, and a rotation error of tens of degrees may
+// be the fit's alone (a Sim(3) of 40 frames along 0.1 m with 3 mm across: 99 degrees where the
+// positions were 1-6 mm off). TUM's freiburg1_xyz (0.13 m along, 0.10 across) is no line.
 std::string lineAlignmentWarning(const std::vector<SE3>& T_world_gt, double ate_rmse_m) {
   Vec3 mean = Vec3::Zero();
   for (const SE3& T : T_world_gt) mean += T.t();
@@ -37,8 +38,8 @@ std::string lineAlignmentWarning(const std::vector<SE3>& T_world_gt, double ate_
   for (const SE3& T : T_world_gt) covariance += (T.t() - mean) * (T.t() - mean).transpose();
   covariance /= static_cast<double>(T_world_gt.size());
   const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance).eigenvalues().cwiseMax(0).cwiseSqrt();  // ascending
-  constexpr double kMinAcrossOverAte = 10;
-  if (spread[1] >= kMinAcrossOverAte * ate_rmse_m) return "";
+  constexpr double kMinAcrossOverAte = 10, kMaxLineAcrossOverAlong = 0.1;
+  if (spread[1] >= kMaxLineAcrossOverAlong * spread[2] || spread[1] >= kMinAcrossOverAte * ate_rmse_m) return "";
   std::ostringstream why;
   why.precision(3);
   why << "the matched positions lie nearly on a line (" << spread[2] << " m RMS along it, " << spread[1]

@@ -370,7 +370,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
       for (size_t m = 0; m < methods.size(); ++m) {
         const auto cell = cellRuns(plan, runs, s, m);
         if (cellValues(cell, "map_points").empty()) continue;
-        md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << cellText(cell, "map_points", 1, 0) << " | "
+        md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << cellText(cell, "map_points", 1, 1) << " | "
            << cellText(cell, "map_median_m", 1e3, 2) << " | " << cellText(cell, "map_within_1cm", 100, 0) << " |\n";
       }
   }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "eval/metrics/run_errors.h"
 #include "eval/metrics/trajectory_metrics.h"
 
 namespace slamcmp {
@@ -205,6 +206,35 @@ TEST(TrajectoryMetrics, ClockOffsetOfTheEstimateIsTakenOut) {
   EXPECT_EQ(e.pairs.size(), gt.size());
   EXPECT_LT(e.ate_trans_stats.max, 1e-12);
   EXPECT_EQ(evaluationToJson(e, options)["t_offset"], -0.037);
+}
+
+// A board-started run in a world scaled or turned against its ground truth (a board described
+// wrong) is told; one that drifted away, or an exact one, is not.
+TEST(TrajectoryMetrics, ABoardWorldScaledOrTurnedIsTold) {
+  const Trajectory truth = wigglyTrajectory();
+  const auto moved = [&](double scale, const Mat3& R) {
+    Trajectory t = truth;
+    for (StampedPose& p : t) p.T_world_camera = SE3(R * p.T_world_camera.R(), scale * (R * p.T_world_camera.t()));
+    return t;
+  };
+  const auto ate = [&](const Trajectory& estimate) { return evaluateRun(truth, estimate)->ate_trans_rmse; };
+  const Trajectory halved = moved(0.5, Mat3::Identity());
+  EXPECT_NE(boardWorldMismatch(truth, halved, ate(halved)).find("a scale of 2.000"), std::string::npos);
+  const Trajectory turned = moved(1.0, SE3::fromRotvec(Vec3(0, 0, kPi / 2), Vec3::Zero()).R());
+  EXPECT_NE(boardWorldMismatch(truth, turned, ate(turned)).find("a 90.0 degree turn"), std::string::npos);
+  EXPECT_EQ(boardWorldMismatch(truth, truth, 0.0), "");
+  // A short slow path (tv1's 60 frames, 0.1 m), exact for half the run, then 2 cm more astray
+  // every frame: a Sim(3) shrinks it onto the truth's middle and fits 5 times better, but not to
+  // within a tenth of the truth's spread.
+  Trajectory slow, astray;
+  for (int i = 0; i < 60; ++i) {
+    const Vec3 p_world(0.0017 * i, 0.01 * std::sin(0.2 * i), -0.8);
+    slow.push_back({1000.0 + 0.1 * i, SE3(Mat3::Identity(), p_world)});
+    astray.push_back({1000.0 + 0.1 * i, SE3(Mat3::Identity(), p_world + Vec3(0.02 * std::max(0, i - 29), 0, 0))});
+  }
+  const auto without = evaluateRun(slow, astray), with = evaluateRun(slow, astray, "sim3");
+  ASSERT_GT(without->ate_trans_rmse, 5 * with->ate_trans_rmse);  // the fit's gain alone would tell
+  EXPECT_EQ(boardWorldMismatch(slow, astray, without->ate_trans_rmse), "");
 }
 
 TEST(TrajectoryMetrics, BadOptionsAreRefused) {
