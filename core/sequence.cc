@@ -149,13 +149,11 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
   seq.name = folder ? lastComponent(p) : p.stem().string();
   const fs::path companion_dir = folder ? p : p.parent_path();  // camera.yaml, target.yaml, groundtruth.txt
 
-  if (!options.read_camera) {
-    seq.camera.reset();
-    seq.camera_path.clear();
-  } else if (!options.camera_path.empty()) {
+  // Without read_camera (calibrate's) no camera file is read; a format with its own honours it too.
+  if (options.read_camera && !options.camera_path.empty()) {
     seq.camera_path = options.camera_path;
     seq.camera = readCameraYaml(seq.camera_path);
-  } else if (!seq.camera && pathExists(companion_dir / "camera.yaml")) {
+  } else if (options.read_camera && !seq.camera && pathExists(companion_dir / "camera.yaml")) {
     seq.camera_path = (companion_dir / "camera.yaml").string();
     seq.camera = readCameraYaml(seq.camera_path);
   }

@@ -48,6 +48,24 @@ int SynthOptions::frameCount() const { return frames > 0 ? frames : findMotionPr
 
 namespace {
 
+// Frame i's image, relative to the sequence folder, and its line in rgb.txt.
+std::string frameImage(int i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "rgb/%06d.png", i);
+  return name;
+}
+
+std::string rgbListLine(int i, double fps) {
+  char line[64];
+  std::snprintf(line, sizeof line, "%.6f %s", i / fps, frameImage(i).c_str());
+  return line;
+}
+
+// A file name frameImage gives (six digits and .png): synth's own frames in rgb/.
+bool isFrameImageName(const std::string& name) {
+  return name.size() == 10 && name.compare(6, 4, ".png") == 0 && name.find_first_not_of("0123456789") == 6;
+}
+
 void writeTextFile(const fs::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -85,7 +103,7 @@ std::string differenceFromItsRender(const std::string& sequence_dir, const Synth
     for (int k = 0; k < rendered.num_distortion; ++k) same_camera = same_camera && same(camera.distortion[k], rendered.distortion[k]);
     if (!same_camera) return "camera.yaml is not the preset's camera";
     const ChessboardTarget target = readTargetYaml((dir / "target.yaml").string(), true);
-    const ChessboardTarget board = buildRoomScene(static_cast<std::uint64_t>(info.seed)).target;
+    const ChessboardTarget board = syntheticTarget();
     if (target.cols != board.cols || target.rows != board.rows || target.square_size != board.square_size)
       return "target.yaml is not the rendered board";
     const double fps = findMotionPreset(info.preset).fps;
@@ -95,12 +113,10 @@ std::string differenceFromItsRender(const std::string& sequence_dir, const Synth
       if (!line.empty() && line[0] != '#') lines.push_back(line);
     if (static_cast<int>(lines.size()) != info.frameCount())
       return "rgb.txt lists " + std::to_string(lines.size()) + " frames, info.yaml " + std::to_string(info.frameCount());
-    for (size_t i = 0; i < lines.size(); ++i) {
-      char line[64];
-      std::snprintf(line, sizeof line, "%.6f rgb/%06zu.png", i / fps, i);
-      if (lines[i] != line) return "rgb.txt's line for frame " + std::to_string(i) + " is not the render's";
-    }
-    const cv::Mat first = cv::imread((dir / "rgb" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+    for (size_t i = 0; i < lines.size(); ++i)
+      if (lines[i] != rgbListLine(static_cast<int>(i), fps))
+        return "rgb.txt's line for frame " + std::to_string(i) + " is not the render's";
+    const cv::Mat first = cv::imread((dir / frameImage(0)).string(), cv::IMREAD_UNCHANGED);
     if (first.cols != rendered.width || first.rows != rendered.height) return "its images are not the render's size";
   } catch (const InputError& e) {
     return e.what();
@@ -128,9 +144,7 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
   std::vector<fs::path> old_frames;
   if (earlier_render) {
     for (fs::directory_iterator it(out / "rgb", ec), end; !ec && it != end; it.increment(ec)) {
-      const std::string name = it->path().filename().string();
-      if (name.size() == 10 && name.compare(6, 4, ".png") == 0 && name.find_first_not_of("0123456789") == 6)
-        old_frames.push_back(it->path());
+      if (isFrameImageName(it->path().filename().string())) old_frames.push_back(it->path());
     }
   }
   for (const fs::path& frame : old_frames) fs::remove(frame, ec);
@@ -175,18 +189,14 @@ void writeSyntheticSequence(const SynthOptions& options, const std::string& out_
     const double t = i / preset.fps;
     const cv::Mat image = renderer.renderFrame(pose_at, t, 1.0 / preset.fps, effects,
                                                static_cast<std::uint64_t>(options.seed), i);
-    char name[32];
-    std::snprintf(name, sizeof name, "rgb/%06d.png", i);
-    const fs::path image_path = out / name;
+    const fs::path image_path = out / frameImage(i);
     bool written = false;
     try {
       written = cv::imwrite(image_path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1});
     } catch (const cv::Exception&) {
     }
     if (!written) throw InputError(image_path.string(), "cannot be written");
-    char line[64];
-    std::snprintf(line, sizeof line, "%.6f %s\n", t, name);
-    rgb_list += line;
+    rgb_list += rgbListLine(i, preset.fps) + "\n";
     groundtruth.push_back({t, motion.T_world_camera(t)});
     progress.update(i + 1);
   }

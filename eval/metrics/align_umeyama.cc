@@ -4,6 +4,7 @@
 #include <limits>
 #include <string>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "core/error.h"
@@ -55,6 +56,16 @@ Similarity3 alignUmeyama(const std::vector<Vec3>& p_from, const std::vector<Vec3
   out.scale = with_scale ? d.dot(s) / sigma_from : 1.0;                // eq. 42
   out.t = mean_to - out.scale * (out.R * mean_from);                   // eq. 41
   return out;
+}
+
+Vec3 principalSpread(const std::vector<Vec3>& positions) {
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : positions) mean += p;
+  mean /= static_cast<double>(positions.size());
+  Mat3 covariance = Mat3::Zero();
+  for (const Vec3& p : positions) covariance += (p - mean) * (p - mean).transpose();
+  covariance /= static_cast<double>(positions.size());
+  return Eigen::SelfAdjointEigenSolver<Mat3>(covariance).eigenvalues().cwiseMax(0).cwiseSqrt();
 }
 
 }  // namespace slamcmp

@@ -21,4 +21,8 @@ struct Similarity3 {
 Similarity3 alignUmeyama(const std::vector<Vec3>& p_from, const std::vector<Vec3>& p_to,
                          bool with_scale);
 
+// The positions' RMS spread about their centroid along the principal axes, ascending (the square
+// roots of their covariance's eigenvalues): how far an alignment's rotation is pinned down.
+Vec3 principalSpread(const std::vector<Vec3>& positions);
+
 }  // namespace slamcmp

@@ -40,13 +40,9 @@ std::string boardWorldMismatch(const Trajectory& groundtruth, const Trajectory& 
   // A run gone astray also fits better once shrunk onto the truth's middle: the fit must leave
   // errors small against how far the true camera moved.
   constexpr double kMaxFitOverSpread = 0.1;
-  Vec3 mean = Vec3::Zero();
-  for (const StampedPose& pose : groundtruth) mean += pose.T_world_camera.t();
-  mean /= static_cast<double>(groundtruth.size());
-  double spread2 = 0;
-  for (const StampedPose& pose : groundtruth) spread2 += (pose.T_world_camera.t() - mean).squaredNorm();
-  if (!(fitted->ate_trans_rmse < kMaxFitOverSpread * std::sqrt(spread2 / static_cast<double>(groundtruth.size()))))
-    return "";
+  std::vector<Vec3> p_gt;
+  for (const StampedPose& pose : groundtruth) p_gt.push_back(pose.T_world_camera.t());
+  if (!(fitted->ate_trans_rmse < kMaxFitOverSpread * principalSpread(p_gt).norm())) return "";
   const double scale = fitted->T_gt_estimate.scale;
   const double turn_deg = rotationAngle(fitted->T_gt_estimate.R) * 180 / M_PI;
   if (std::abs(scale - 1) < kMinScaleOff && turn_deg < kMinTurnDeg) return "";

@@ -30,14 +30,8 @@ nlohmann::json axesToJson(const Vec3& v) { return {{"x", v.x()}, {"y", v.y()}, {
 // turn is uncertain by more than a tenth of a radian, and a rotation error of tens of degrees may
 // be the fit's alone (a Sim(3) of 40 frames along 0.1 m with 3 mm across: 99 degrees where the
 // positions were 1-6 mm off). TUM's freiburg1_xyz (0.13 m along, 0.10 across) is no line.
-std::string lineAlignmentWarning(const std::vector<SE3>& T_world_gt, double ate_rmse_m) {
-  Vec3 mean = Vec3::Zero();
-  for (const SE3& T : T_world_gt) mean += T.t();
-  mean /= static_cast<double>(T_world_gt.size());
-  Mat3 covariance = Mat3::Zero();
-  for (const SE3& T : T_world_gt) covariance += (T.t() - mean) * (T.t() - mean).transpose();
-  covariance /= static_cast<double>(T_world_gt.size());
-  const Vec3 spread = Eigen::SelfAdjointEigenSolver<Mat3>(covariance).eigenvalues().cwiseMax(0).cwiseSqrt();  // ascending
+std::string lineAlignmentWarning(const std::vector<Vec3>& p_gt, double ate_rmse_m) {
+  const Vec3 spread = principalSpread(p_gt);  // ascending
   constexpr double kMinAcrossOverAte = 10, kMaxLineAcrossOverAlong = 0.1;
   if (spread[1] >= kMaxLineAcrossOverAlong * spread[2] || spread[1] >= kMinAcrossOverAte * ate_rmse_m) return "";
   std::ostringstream why;
@@ -85,6 +79,7 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
     T_world_est[k] = estimate[out.pairs.estimate[k]].T_world_camera;
   }
 
+  std::vector<Vec3> p_gt_aligned;  // the true positions an se3 or sim3 alignment was fitted to
   if (options.align == "origin") {
     // evo's PosePath3D.align_origin: T_gt[0] T_est[0]^-1 applied on the left of every pose, so
     // that the errors are those of each pose relative to the first (a run's own world frame).
@@ -98,6 +93,7 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
       p_gt[k] = T_world_gt[k].t();
     }
     out.T_gt_estimate = alignUmeyama(p_est, p_gt, options.align == "sim3");
+    p_gt_aligned = std::move(p_gt);
   }
   // As evo's PosePath3D.align: scale the positions, then apply the rigid part to every pose.
   if (options.align != "none")
@@ -115,7 +111,7 @@ TrajectoryEvaluation evaluateTrajectory(const Trajectory& groundtruth, const Tra
   out.ate_axis_rmse = axisRms(ate_offsets);
   out.ate_trans_stats = computeStatistics(out.ate_trans);
   out.ate_rot_deg_stats = computeStatistics(out.ate_rot_deg);
-  if (options.align == "se3" || options.align == "sim3") out.ate_rot_warning = lineAlignmentWarning(T_world_gt, out.ate_trans_stats.rmse);
+  if (!p_gt_aligned.empty()) out.ate_rot_warning = lineAlignmentWarning(p_gt_aligned, out.ate_trans_stats.rmse);
 
   // evo's filter_pairs_by_index: consecutive pairs, ids 0, delta, 2 delta, ... < n; or all pairs
   // (i, i + delta).

@@ -71,5 +71,16 @@ TEST(AlignUmeyama, TooFewOrDegeneratePointsAreRefused) {
   EXPECT_THROW(alignUmeyama(one_point, one_point, false), InputError);
 }
 
+// Four points at +-3 along one axis and +-1 along another, turned and moved: RMS spreads 0,
+// sqrt(0.5) and sqrt(4.5) along the principal axes, ascending, wherever the set is.
+TEST(AlignUmeyama, PrincipalSpreadOfACross) {
+  const SE3 T = SE3::fromRotvec(Vec3(0.3, -0.2, 0.5), Vec3(4, -1, 2));
+  const std::vector<Vec3> cross{T * Vec3(3, 0, 0), T * Vec3(-3, 0, 0), T * Vec3(0, 1, 0), T * Vec3(0, -1, 0)};
+  const Vec3 spread = principalSpread(cross);
+  EXPECT_NEAR(spread[0], 0.0, 1e-6);
+  EXPECT_NEAR(spread[1], std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(spread[2], std::sqrt(4.5), 1e-12);
+}
+
 }  // namespace
 }  // namespace slamcmp

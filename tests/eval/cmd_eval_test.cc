@@ -2,12 +2,14 @@
 // code 2, one stderr line).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/geometry.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -100,22 +102,30 @@ TEST(CmdEval, KittiWithItsTimesPairsWithATimedFile) {
   EXPECT_NE(short_times.err.find(tmp.file("short_times.txt") + ": has fewer timestamps"), std::string::npos) << short_times.err;
 }
 
+// gt.txt and est.txt with a pose a line at 10 Hz (identity orientation), positions p_gt(i) and
+// p_est(i); then `eval --align se3 --json` of them.
+test::CommandResult evalPositions(const TempDir& tmp, int n, const std::function<Vec3(int)>& p_gt,
+                                  const std::function<Vec3(int)>& p_est) {
+  std::string gt, est;
+  for (int i = 0; i < n; ++i)
+    for (auto [text, p] : {std::pair{&gt, p_gt(i)}, {&est, p_est(i)}}) {
+      char line[128];
+      std::snprintf(line, sizeof line, "%.6f %.5f %.5f %.5f 0 0 0 1\n", 10.0 + 0.1 * i, p.x(), p.y(), p.z());
+      *text += line;
+    }
+  writeText(tmp.file("gt.txt"), gt);
+  writeText(tmp.file("est.txt"), est);
+  return runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") +
+                    " --align se3 --json");
+}
+
 // Aligned on positions nearly on one line, the fit's turn about the line is free: the rotation
 // error is said to be undetermined (stderr, and ate.rot_warning), not on a curve.
 TEST(CmdEval, AnAlignmentAlongALineSaysItsRotationIsUndetermined) {
   TempDir tmp;
-  std::string gt, est;
-  for (int i = 0; i < 10; ++i) {
-    char line[128];
-    std::snprintf(line, sizeof line, "%.6f %.4f %.5f 0 0 0 0 1\n", 10.0 + 0.1 * i, 0.01 * i, 0.0002 * (i % 2));
-    gt += line;
-    std::snprintf(line, sizeof line, "%.6f %.4f %.5f 0.002 0 0 0 1\n", 10.0 + 0.1 * i, 0.01 * i, 0.002 * (i % 3));
-    est += line;
-  }
-  writeText(tmp.file("gt.txt"), gt);
-  writeText(tmp.file("est.txt"), est);
-  const auto r = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") +
-                            " --align se3 --json");
+  const auto r = evalPositions(
+      tmp, 10, [](int i) { return Vec3(0.01 * i, 0.0002 * (i % 2), 0); },
+      [](int i) { return Vec3(0.01 * i, 0.002 * (i % 3), 0.002); });
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_NE(r.err.find("warning: the matched positions lie nearly on a line"), std::string::npos) << r.err;
@@ -123,21 +133,11 @@ TEST(CmdEval, AnAlignmentAlongALineSaysItsRotationIsUndetermined) {
   EXPECT_NE(j["ate"].value("rot_warning", "").find("is not determined"), std::string::npos) << j.dump();
   // Spread as wide across as along (TUM's freiburg1_xyz: 0.13 and 0.10 m), the turn is fixed even
   // where the spread across is under ten times the ATE.
-  gt.clear();
-  est.clear();
-  for (int i = 0; i < 12; ++i) {
-    char line[128];
+  const auto on_circle = [](int i) -> Vec3 {
     const double a = 2 * 3.14159265358979 * i / 12;
-    std::snprintf(line, sizeof line, "%.6f %.5f %.5f 0 0 0 0 1\n", 10.0 + 0.1 * i, 0.05 * std::cos(a), 0.05 * std::sin(a));
-    gt += line;
-    std::snprintf(line, sizeof line, "%.6f %.5f %.5f %.3f 0 0 0 1\n", 10.0 + 0.1 * i, 0.05 * std::cos(a),
-                  0.05 * std::sin(a), 0.01 * (i % 2));
-    est += line;
-  }
-  writeText(tmp.file("gt.txt"), gt);
-  writeText(tmp.file("est.txt"), est);
-  const auto circle = runSlamcmp("eval --groundtruth " + tmp.file("gt.txt") + " --estimate " + tmp.file("est.txt") +
-                                 " --align se3 --json");
+    return Vec3(0.05 * std::cos(a), 0.05 * std::sin(a), 0);
+  };
+  const auto circle = evalPositions(tmp, 12, on_circle, [&](int i) -> Vec3 { return on_circle(i) + Vec3(0, 0, 0.01 * (i % 2)); });
   ASSERT_EQ(circle.exit_code, 0) << circle.err;
   EXPECT_EQ(circle.err, "");
   writePair(tmp, 1.0);  // a parabola
