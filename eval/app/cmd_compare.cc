@@ -64,10 +64,13 @@ void addCompareCommand(CLI::App& app) {
   plan->excludes(out);
   collect->excludes(out);
   collect->excludes(plan);
-  cmd->callback([sequences, backends, options, plan_dir, collect_dir] {
+  cmd->callback([cmd, sequences, backends, options, plan_dir, collect_dir] {
     installInterruptHandler();
     if (!collect_dir->empty()) {
-      if (!sequences->empty()) throw InputError("--collect", "takes no --sequence (the plan lists them)");
+      // The plan decided them: one given here would be ignored.
+      for (const char* option : {"--sequence", "--backends", "--trials", "--set", "--config", "--max-frames", "--jobs"})
+        if (cmd->count(option) > 0)
+          throw InputError("--collect", std::string("takes no ") + option + " (DIR/plan.json has the experiment's)");
       std::vector<UnfinishedRun> unfinished;
       const std::string report = collectCompare(*collect_dir, &unfinished);
       sayCompareReport(*collect_dir, report, unfinished);

@@ -180,9 +180,9 @@ void sayCompareReport(const std::string& dir, const std::string& report, const s
       ++failed;
     }
   // Runs still to come (a cluster's queue) are no error, but a report short of them is said so
-  // where scripts look.
-  if (failed == 0 && !unfinished.empty())
-    std::cerr << "slamcmp: warning: " << report << ": " << unfinished.size()
+  // where scripts look, beside any that failed.
+  if (const size_t others = unfinished.size() - static_cast<size_t>(failed); others > 0)
+    std::cerr << "slamcmp: warning: " << report << ": " << others
               << " run(s) not finished (not run or interrupted); the report marks them\n";
   if (failed > 0)
     throw InputError(report, std::to_string(failed) + " run(s) failed (the lines above); the report marks them");

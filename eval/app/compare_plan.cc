@@ -87,13 +87,15 @@ std::vector<OptionFile> optionFilesOf(const std::string& backend, const std::vec
 // Where trial k's render of a given sequence goes.
 fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "sequences" / ("seed" + std::to_string(trial)); }
 
-// An earlier compare's folder (its plan.json): its runs, logs, figures and trial renders go, or the
-// new report would sit beside the old experiment's. Only the folders trialRenderFolder names, not
+// An earlier compare's folder (its plan.json): its report, runs, logs, figures and trial renders go,
+// or the new report would sit beside the old experiment's (a plan alone leaves no report to read
+// for the new one). Only the folders trialRenderFolder names, not
 // through a link, and not one that is or holds a sequence given now (reproduce renders tv1..tv4
 // into sequences/: its second run into the same folder found them gone).
 void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>& given) {
   std::error_code ec;
   for (const char* sub : {"runs", "logs", "figures"}) fs::remove_all(dir / sub, ec);
+  for (const std::string& file : compareReportFiles()) fs::remove(dir / file, ec);
   std::vector<fs::path> renders;
   for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();

@@ -20,6 +20,7 @@ std::optional<RunErrors> evaluateRun(const Trajectory& groundtruth, const Trajec
   r.T_gt_estimate = e.T_gt_estimate;
   r.ate_trans_rmse = e.ate_trans_stats.rmse;
   r.ate_rot_rmse_deg = e.ate_rot_deg_stats.rmse;
+  r.ate_rot_warning = e.ate_rot_warning;
   r.rpe_trans_rmse = e.rpe_trans_stats.rmse;
   r.rpe_rot_rmse_deg = e.rpe_rot_deg_stats.rmse;
   r.drift = e.drift;

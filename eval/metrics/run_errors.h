@@ -17,6 +17,7 @@ namespace slamcmp {
 struct RunErrors {
   double ate_trans_rmse = 0;    // metres
   double ate_rot_rmse_deg = 0;  // degrees
+  std::string ate_rot_warning;  // why the rotation error is not determined (positions on a line), or ""
   double rpe_trans_rmse = 0;    // metres, per frame
   double rpe_rot_rmse_deg = 0;  // degrees, per frame
   std::string align = "none";   // none | sim3

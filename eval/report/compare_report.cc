@@ -148,6 +148,11 @@ std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::
 
 namespace {
 
+constexpr const char* kReportFile = "report.md";
+constexpr const char* kResultsFile = "results.csv";
+constexpr const char* kTable31File = "table_3_1.csv";
+constexpr const char* kTable32File = "table_3_2.csv";
+
 // The plan's runs of sequence s and method m, in trial order.
 std::vector<const RunResult*> cellRuns(const Plan& plan, const std::vector<RunResult>& runs, size_t s, size_t m) {
   std::vector<const RunResult*> out;
@@ -165,16 +170,24 @@ std::vector<double> cellValues(const std::vector<const RunResult*>& cell, const 
 }
 
 // One trial: its number; several: mean ± std (population, as Statistics) over the finished ones,
-// with "(k/N)" when some did not finish or have no such number. `scale` converts units (m to mm).
+// then `unit`, with "(k/N)" when some did not finish or have no such number. `scale` converts units
+// (m to mm).
 std::string cellText(const std::vector<const RunResult*>& cell, const std::string& column, double scale,
-                     int precision) {
+                     int precision, const std::string& unit = "") {
   const std::vector<double> v = cellValues(cell, column);
   if (v.empty()) return "-";
   const Statistics st = computeStatistics(v);
   std::string text = fmt(st.mean * scale, precision);
   if (cell.size() > 1) text += " ± " + fmt(st.std * scale, precision);
+  text += unit;
   if (v.size() < cell.size()) text += " (" + std::to_string(v.size()) + "/" + std::to_string(cell.size()) + ")";
   return text;
+}
+
+// Whether a finished trial's ATE rotation error is not determined (positions on a line).
+bool rotationUndetermined(const std::vector<const RunResult*>& cell) {
+  const std::vector<double> v = cellValues(cell, "ate_rot_undetermined");
+  return std::any_of(v.begin(), v.end(), [](double x) { return x > 0; });
 }
 
 bool anyFinished(const std::vector<const RunResult*>& cell) {
@@ -195,6 +208,11 @@ std::string trialsNote(const Plan& plan) {
 }
 
 }  // namespace
+
+const std::vector<std::string>& compareReportFiles() {
+  static const std::vector<std::string> files{kReportFile, kResultsFile, kTable31File, kTable32File};
+  return files;
+}
 
 std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>& seqs,
                                const std::vector<RunResult>& runs, const std::string& out_dir) {
@@ -220,10 +238,10 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   }
   md << " Every number of every run is in results.csv.\n\n";
 
-  writeResultsCsv(plan, runs, out_dir + "/results.csv");
+  writeResultsCsv(plan, runs, out_dir + "/" + kResultsFile);
 
   // Table 3.1 and 3.2, measured here, with the thesis's numbers beside them.
-  std::ofstream t31(out_dir + "/table_3_1.csv"), t32(out_dir + "/table_3_2.csv");
+  std::ofstream t31(out_dir + "/" + kTable31File), t32(out_dir + "/" + kTable32File);
   t31 << "video,frames,thesis_frames,motion\n";
   md << "## Table 3.1: the sequences\n\n| video | frames | thesis frames | motion |\n|---|---|---|---|\n";
   for (const auto& s : seqs) {
@@ -299,16 +317,25 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
       if (cell.size() == 1) {
         posed = std::to_string(cell[0]->summary.value("tracked", 0)) + "/" + std::to_string(cell[0]->summary.value("frames", 0));
       } else {
-        posed = cellText(cell, "posed_percent", 1, 1) + " %";
+        posed = cellText(cell, "posed_percent", 1, 1, " %");
       }
       md << posed << " | " << first_lost << " | " << cellText(cell, "ate_trans_rmse_m", 1e3, 2) << " | "
-         << cellText(cell, "ate_rot_rmse_deg", 1, 3) << " | " << cellText(cell, "rpe_trans_rmse_m", 1e3, 2) << " | "
+         << cellText(cell, "ate_rot_rmse_deg", 1, 3) << (rotationUndetermined(cell) ? " †" : "") << " | "
+         << cellText(cell, "rpe_trans_rmse_m", 1e3, 2) << " | "
          << cellText(cell, "rpe_rot_rmse_deg", 1, 3) << " | " << (align.empty() ? "-" : align) << ", "
          << cellText(cell, "scale", 1, 4) << " | " << cellText(cell, "cpu_ms_median", 1, 2) << " | "
          << cellText(cell, "ms_median", 1, 2) << " |\n";
     }
+  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return runValue(r, "ate_rot_undetermined") > 0; }))
+    md << "\n† In a trial or more the matched positions lie nearly on one line, so the alignment's turn about it, "
+          "and with it the ATE's rotation error, is not determined (summary.json's `ate.rot_warning`; results.csv's "
+          "`ate_rot_undetermined`).\n";
+  // The thesis's MonoSLAM beside this one's.
+  const bool monoslam_ran =
+      std::any_of(methods.begin(), methods.end(), [](const Method& m) { return m.thesis_method == "MonoSLAM"; });
   const auto tv_note = [&] {
     std::string note;
+    if (!monoslam_ran) return note;
     for (const auto& s : seqs)
       if (const auto tv = thesisVideo(s.name); tv && tv->monoslam_lost_after)
         note += (note.empty() ? "" : ", ") + s.name + " after frame " + std::to_string(tv->monoslam_lost_after);
@@ -317,7 +344,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   if (!tv_note.empty()) md << "\nThe thesis's MonoSLAM lost every feature on " << tv_note << ".\n";
 
   // Drift over path segments (KITTI devkit), when a run's path allows a segment.
-  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return r.errors && r.errors->drift; })) {
+  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return std::isfinite(runValue(r, "drift_trans_percent")); })) {
     md << "\n## Drift over path segments (KITTI odometry devkit)\n\n"
        << "From every 10th pose, the relative motion over a segment of the ground truth's path: translation error "
           "in % of the segment's length and rotation error in degrees per metre, averaged over every segment. "
@@ -359,7 +386,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
     }
   }
 
-  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return r.map_errors.has_value(); })) {
+  if (std::any_of(runs.begin(), runs.end(), [](const RunResult& r) { return std::isfinite(runValue(r, "map_points")); })) {
     md << "\n## Map accuracy against the scene's true surfaces (synthetic sequences)\n\n"
        << "Distance of each point of map.ply to the nearest surface of scene.yaml (board, walls, box faces; "
           "finite rectangles). Known points given to a back-end exactly (the EKF's four board corners) are "
@@ -441,16 +468,21 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   md << "\n## Figures\n\n";
   std::vector<std::string> figures;
   for (size_t s = 0; s < seqs.size(); ++s) {
-    // The trajectories of the first trial; the trials' spread is in the box plots.
+    // The trajectories of each method's first finished trial (else its first); the trials' spread
+    // is in the box plots.
     std::vector<RunResult> first_trial;
-    for (size_t m = 0; m < methods.size(); ++m) first_trial.push_back(*cellRuns(plan, runs, s, m).front());
+    for (size_t m = 0; m < methods.size(); ++m) {
+      const auto cell = cellRuns(plan, runs, s, m);
+      const auto finished = std::find_if(cell.begin(), cell.end(), [](const RunResult* r) { return r->status == "ok"; });
+      first_trial.push_back(**(finished != cell.end() ? finished : cell.begin()));
+    }
     const SequenceInfo& seq = first_trial.front().sequence ? *first_trial.front().sequence : seqs[s];
     for (const auto& path : writeCompareFigures(seq, first_trial, out_dir + "/figures")) figures.push_back(path);
   }
   for (const auto& path : writeExperimentFigures(plan, seqs, runs, out_dir + "/figures")) figures.push_back(path);
   for (const auto& path : figures)
     md << "![" << fs::path(path).stem().string() << "](" << fs::relative(path, out_dir).string() << ")\n\n";
-  const std::string report = out_dir + "/report.md";
+  const std::string report = out_dir + "/" + kReportFile;
   std::ofstream out(report);
   if (!out) throw InputError(report, "cannot be written");
   out << md.str();

@@ -79,6 +79,9 @@ struct Plan;
 std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
                                                    size_t m);
 
+// The files writeCompareReport writes in out_dir, beside figures/.
+const std::vector<std::string>& compareReportFiles();
+
 // report.md, results.csv (one row a run), table_3_1.csv, table_3_2.csv and figures/ in out_dir.
 // runs[k] is plan.runs[k] read back; seqs[s] the plan's given sequence s. Everything written
 // depends on the plan and the runs only (not on where or when they ran). Returns report.md's path.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 
 #include "core/statistics.h"
 #include "eval/report/plot.h"
@@ -63,6 +64,21 @@ Figure ateBoxplot(const Plan& plan, const std::vector<SequenceInfo>& seqs, const
   return fig;
 }
 
+}  // namespace
+
+std::string sweepPointLabel(const std::string& setting) {
+  std::istringstream words(setting);
+  std::string label;
+  for (std::string word; words >> word;) {
+    const size_t eq = word.find('=');
+    const size_t dot = word.rfind('.', eq);
+    label += (label.empty() ? "" : " ") + (dot == std::string::npos ? word : word.substr(dot + 1));
+  }
+  return label;
+}
+
+namespace {
+
 // Each setting at (median CPU ms, ATE), the settings of one back-end and mode joined in order and
 // labelled with their values; means over the trials. One panel a sequence.
 Figure sweepFigure(const Plan& plan, const std::vector<SequenceInfo>& seqs, const std::vector<RunResult>& runs) {
@@ -93,7 +109,7 @@ Figure sweepFigure(const Plan& plan, const std::vector<SequenceInfo>& seqs, cons
       if (!std::isfinite(cpu_ms) || !std::isfinite(ate_mm)) continue;  // not run, or no ground truth
       line.x.push_back(cpu_ms);
       line.y.push_back(ate_mm);
-      line.point_labels.push_back(method.setting.empty() ? "" : method.setting.substr(method.setting.rfind('.') + 1));
+      line.point_labels.push_back(sweepPointLabel(method.setting));
     }
     for (const std::string& key : order) {
       if (by_line[key].x.empty()) continue;

@@ -12,6 +12,10 @@
 
 namespace slamcmp {
 
+// A sweep's setting ("features.quality_level=0.05 features.max_features=100") as its point's label
+// in the figure: each option's last key with its value ("quality_level=0.05 max_features=100").
+std::string sweepPointLabel(const std::string& setting);
+
 // Writes <fig_dir>/ate_boxplot.png (several trials), sweep_ate_cpu.png (a sweep),
 // <sequence>_stages.png (runs with stages) and <sequence>_anees.png (several trials of a filter
 // that scored its covariances); returns the paths written.

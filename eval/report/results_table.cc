@@ -54,6 +54,9 @@ const std::vector<RunColumn>& runColumns() {
       {"scale", [](const RunResult& r) { return r.errors ? r.errors->T_gt_estimate.scale : NAN; }},
       {"ate_trans_rmse_m", [](const RunResult& r) { return errorOf(r, &RunErrors::ate_trans_rmse); }},
       {"ate_rot_rmse_deg", [](const RunResult& r) { return errorOf(r, &RunErrors::ate_rot_rmse_deg); }},
+      // 1 where the matched positions lie nearly on a line: the rotation error is not determined.
+      {"ate_rot_undetermined",
+       [](const RunResult& r) { return r.errors ? (r.errors->ate_rot_warning.empty() ? 0.0 : 1.0) : NAN; }},
       {"rpe_trans_rmse_m", [](const RunResult& r) { return errorOf(r, &RunErrors::rpe_trans_rmse); }},
       {"rpe_rot_rmse_deg", [](const RunResult& r) { return errorOf(r, &RunErrors::rpe_rot_rmse_deg); }},
       {"drift_trans_percent",

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -140,6 +141,7 @@ TEST(CompareExperiment, TrialStatisticsAreRecomputableFromResultsCsv) {
     EXPECT_NE(row.find("| " + meanStd(cpu[label]) + " |"), std::string::npos) << row << " vs " << meanStd(cpu[label]);
   }
   EXPECT_NE(report.find("## Sweep: accuracy against CPU time"), std::string::npos);
+  EXPECT_NE(report.find("The thesis's MonoSLAM lost every feature on tv1"), std::string::npos) << report;
   // monoslam's NEES over the trials, frame by frame (its runs' nees.csv): the mean of the frames'
   // trial averages, recomputed here, and the share of frames inside their interval in [0, 100].
   std::map<double, std::vector<double>> per_frame;
@@ -263,9 +265,17 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   options.sets = {"cslam.features.max_features=100,200"};
   const std::string report = runCompare(options);
   EXPECT_TRUE(fs::exists(report));
+  EXPECT_EQ(readFile(report).find("The thesis's MonoSLAM"), std::string::npos);  // no monoslam here
   EXPECT_FALSE(fs::exists(tmp.file("c/figures/ate_boxplot.png")));
   EXPECT_FALSE(fs::exists(tmp.file("c/figures/sweep_ate_cpu.png")));
   EXPECT_EQ(readResults(tmp.file("c/results.csv")).size(), 4u);
+
+  // A plan into the folder: the earlier experiment's report and tables go with its runs.
+  CompareOptions plan_only = shortCompare(seq, "cslam", tmp.file("c"));
+  planCompare(plan_only);
+  for (const char* file : {"report.md", "results.csv", "table_3_1.csv", "table_3_2.csv"})
+    EXPECT_FALSE(fs::exists(tmp.file(std::string("c/") + file))) << file;
+  EXPECT_TRUE(fs::exists(tmp.file("c/jobs.txt")));
 
   const std::string with_truth = renderTv1(tmp, 12);  // the same folder, ground truth back
   ASSERT_EQ(with_truth, seq);
@@ -455,6 +465,14 @@ TEST(CompareExperiment, PlanAndCollectUsageErrors) {
                                      tmp.file("o"));
   EXPECT_EQ(both.exit_code, 2) << both.err;
   EXPECT_FALSE(fs::exists(tmp.file("p")));
+  for (const char* option : {"--trials 5", "--backends cslam", "--max-frames 10", "--jobs 2",
+                             "--set cslam.features.max_features=100,200", "--config defaults"}) {
+    const auto ignored = test::runSlamcmp("compare --collect " + tmp.path() + " " + option);
+    EXPECT_EQ(ignored.exit_code, 2) << option << ": " << ignored.err;
+    EXPECT_EQ(std::count(ignored.err.begin(), ignored.err.end(), '\n'), 1) << ignored.err;
+    const std::string name = std::string(option).substr(0, std::string(option).find(' '));
+    EXPECT_NE(ignored.err.find("takes no " + name), std::string::npos) << ignored.err;
+  }
   const auto trials = test::runSlamcmp("compare --sequence " + tmp.path() + " --trials 0 --out " + tmp.file("o"));
   EXPECT_EQ(trials.exit_code, 2) << trials.err;
   EXPECT_NE(trials.err.find("--trials"), std::string::npos) << trials.err;
@@ -545,6 +563,15 @@ TEST(CompareExperiment, InterruptedCompareMarksItsRunsAndFails) {
   // 2000 frames played from the 40 rendered: still running when the signal comes.
   const std::string seq = tmp.file("long");
   test::writeLoopedSequence(seq, "tv1", 40, 2000);
+  // Its ground truth and scene, so that a finished run would have drift and map tables.
+  fs::copy_file(tmp.file("tv1/scene.yaml"), seq + "/scene.yaml");
+  const std::vector<std::string> truth = test::readLines(tmp.file("tv1/groundtruth.txt"));
+  std::ostringstream looped_truth;
+  for (int i = 0; i < 2000; ++i) {
+    const std::string& line = truth.at(1 + i % 40);  // after the header
+    looped_truth << 0.1 * i << line.substr(line.find(' ')) << "\n";
+  }
+  test::writeText(seq + "/groundtruth.txt", looped_truth.str());
 
   const std::string out = tmp.file("out");
   const pid_t pid = fork();
@@ -575,6 +602,29 @@ TEST(CompareExperiment, InterruptedCompareMarksItsRunsAndFails) {
   EXPECT_NE(report.find("`runs/long-cslam`: interrupted: stopped after"), std::string::npos) << report;
   EXPECT_NE(report.find("`runs/long-hybrid`: not run"), std::string::npos) << report;
   for (const auto& row : readResults(out + "/results.csv")) EXPECT_NE(row.at("status"), "ok") << row.at("run");
+  // No finished run: no drift or map table (they had their headers and no row).
+  EXPECT_EQ(report.find("## Drift over path segments"), std::string::npos) << report;
+  EXPECT_EQ(report.find("## Map accuracy"), std::string::npos) << report;
+}
+
+// A board-free run on tv1's first frames moves nearly along a line: its ATE rotation error after
+// Sim(3) is not determined. results.csv says so and the report marks the cell; the board-started
+// run, scored unaligned, has no mark.
+TEST(CompareExperiment, AnUndeterminedRotationErrorIsMarked) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string report = readFile(runCompare(shortCompare(renderTv1(tmp, 12), "cslam,monoslam@none", tmp.file("c"))));
+  std::map<std::string, std::string> undetermined;
+  for (const auto& row : readResults(tmp.file("c/results.csv"))) undetermined[row.at("method")] = row.at("ate_rot_undetermined");
+  EXPECT_EQ(undetermined["cslam"], "0");
+  EXPECT_EQ(undetermined["monoslam@none"], "1");
+  const auto row = [&](const std::string& method) {
+    const size_t at = report.find("| tv1 | " + method + " | ");
+    return at == std::string::npos ? std::string() : report.substr(at, report.find('\n', at) - at);
+  };
+  EXPECT_NE(row("monoslam@none").find(" † |"), std::string::npos) << report;
+  EXPECT_EQ(row("cslam").find("†"), std::string::npos) << report;
+  EXPECT_NE(report.find("† In a trial or more the matched positions lie nearly on one line"), std::string::npos);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "datasets/synth_sequence.h"
+#include "eval/report/experiment_figures.h"
 #include "eval/report/results_table.h"
 #include "eval/report/thesis_tables.h"
 #include "eval/app/backends.h"
@@ -75,6 +76,28 @@ TEST(Compare, LongSettingsMakeShortDistinctFolderNames) {
   EXPECT_EQ(a.slug().find_first_of(" /:"), std::string::npos);
   a.setting = "features.max_features=50";
   EXPECT_EQ(a.slug(), "hybrid-features.max_features=50");  // short ones as before
+}
+
+// The sweep figure labels each point with its options' last keys and values: a decimal value kept
+// whole, and every option of a grid's setting.
+TEST(Compare, SweepPointLabels) {
+  EXPECT_EQ(sweepPointLabel(""), "");
+  EXPECT_EQ(sweepPointLabel("features.max_features=100"), "max_features=100");
+  EXPECT_EQ(sweepPointLabel("features.quality_level=0.05"), "quality_level=0.05");
+  EXPECT_EQ(sweepPointLabel("features.quality_level=0.01 features.max_features=200"),
+            "quality_level=0.01 max_features=200");
+  EXPECT_EQ(sweepPointLabel("fusion.enabled=true"), "enabled=true");
+}
+
+// A report with failed runs and runs still to come says both on stderr, and fails for the former.
+TEST(Compare, FailedAndUnfinishedRunsAreBothSaid) {
+  testing::internal::CaptureStderr();
+  EXPECT_THROW(sayCompareReport("/exp", "/exp/report.md",
+                                {{"runs/a-t1", "failed", "boom"}, {"runs/a-t2", "not run", ""}}),
+               InputError);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("/exp/runs/a-t1: failed: boom"), std::string::npos) << err;
+  EXPECT_NE(err.find("1 run(s) not finished"), std::string::npos) << err;
 }
 
 TEST(Compare, RefusesUnknownAndEmptyMethodLists) {
