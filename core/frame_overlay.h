@@ -32,8 +32,16 @@ struct OverlayEllipse {
   bool matched = false;
 };
 
+struct OverlayBoardCorner {
+  int id = -1;  // the corner's index in the target (SPEC section 2): a part of the board keeps its corners' own
+  Vec2 uv = Vec2::Zero();
+};
+
+// The corners of a whole board detected in the target's order: corner k is the target's k.
+std::vector<OverlayBoardCorner> wholeBoardCorners(const std::vector<Vec2>& uv);
+
 struct FrameOverlay {
-  std::vector<Vec2> board_corners;  // detected board corners in the target's order; empty if none
+  std::vector<OverlayBoardCorner> board_corners;  // the board corners detected; empty if none
   // Board axes projected: origin, then the ends of x, y and z (one and a half squares long).
   std::vector<Vec2> board_axes;
   std::vector<OverlayFeature> features;

@@ -27,4 +27,11 @@ const char* toString(OverlayFeatureState state) {
   return "inlier";
 }
 
+std::vector<OverlayBoardCorner> wholeBoardCorners(const std::vector<Vec2>& uv) {
+  std::vector<OverlayBoardCorner> corners;
+  corners.reserve(uv.size());
+  for (size_t k = 0; k < uv.size(); ++k) corners.push_back({static_cast<int>(k), uv[k]});
+  return corners;
+}
+
 }  // namespace slamcmp

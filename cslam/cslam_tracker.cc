@@ -525,7 +525,8 @@ std::optional<SE3> CslamTracker::essentialPose(const std::vector<Vec2>& xy, std:
 FrameOverlay CslamTracker::overlay(const BoardView* board, const std::optional<SE3>& T_world_camera) const {
   FrameOverlay o;
   if (board)
-    for (const auto& c : board->uv) o.board_corners.emplace_back(c.x, c.y);
+    for (size_t k = 0; k < board->ids.size(); ++k)
+      o.board_corners.push_back({board->ids[k], Vec2(board->uv[k].x, board->uv[k].y)});
   if (T_world_camera) {
     const SE3 T_camera_world = T_world_camera->inverse();
     const double axis = 1.5 * target_.square_size;

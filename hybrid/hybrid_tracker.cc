@@ -165,6 +165,13 @@ BoardCornerMeasurement HybridTracker::measureBoard(const Frame& frame, bool* res
   return board;
 }
 
+FrameOverlay HybridTracker::overlay(const FrameMeasurement& measurement, const BoardCornerMeasurement& board) const {
+  FrameOverlay o = slam_->overlay(measurement, target_);
+  for (size_t k = 0; k < board.observations.size(); ++k)
+    o.board_corners.push_back({board.corner_ids[k], board.observations[k].z});
+  return o;
+}
+
 FrameResult HybridTracker::track(const Frame& frame) {
   FrameResult result;
   if (!camera_ && !calibrate(frame, &result)) return result;
@@ -183,6 +190,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
       return result;
     }
     corners_->endFrame(frame.timestamp, frame.grey);
+    if (want_overlay_) result.overlay = overlay(measurement, board);  // the corners it started from
     motion_->update(slam_->state(), frame.grey, corners_->pyramid(), true);
     slam_->updateMap(frame.grey, visible_, boardPixels());
   } else {
@@ -205,12 +213,7 @@ FrameResult HybridTracker::track(const Frame& frame) {
       measurement = slam_->measure(frame.grey);
     }
     visible_ = measurement.visible;
-    if (want_overlay_) {
-      result.overlay = slam_->overlay(measurement, target_);
-      for (size_t k = 0; k < board.observations.size(); ++k)
-        result.overlay->features.push_back(
-            {-1 - board.corner_ids[k], board.observations[k].z, OverlayFeatureState::Matched});
-    }
+    if (want_overlay_) result.overlay = overlay(measurement, board);
     // The tracks after the other updates (the pose they clone is this frame's best), before the
     // map grows or shrinks. Timed whether on or not (a stage the registration names is always
     // there: off, it costs nothing).

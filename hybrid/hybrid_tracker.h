@@ -100,6 +100,8 @@ class HybridTracker : public Tracker {
   bool calibrate(const Frame& frame, FrameResult* result);
   // The filter started from a board detection in `frame` and updated with its corners (*board).
   bool start(const Frame& frame, BoardCornerMeasurement* board, std::string* reason);
+  // What a frame measured, drawn: the map's searches and the board's corners.
+  FrameOverlay overlay(const FrameMeasurement& measurement, const BoardCornerMeasurement& board) const;
   bool startFromCorners(const Frame& frame, const std::vector<cv::Point2f>& uv, BoardCornerMeasurement* board);
   // The board's corners measured and the filter updated with them: tracked or refined where
   // predicted, found by a search in the predicted region or (every search_interval frames) the

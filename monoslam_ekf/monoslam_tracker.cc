@@ -255,7 +255,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
       result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
       if (want_overlay_ && !start_corners_.empty()) {  // a restart's first view of the board
         result.overlay = FrameOverlay();
-        result.overlay->board_corners = start_corners_;
+        result.overlay->board_corners = wholeBoardCorners(start_corners_);
       }
       return result;
     }
@@ -275,7 +275,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
     }
     if (want_overlay_) {
       result.overlay = slam_.overlay(FrameMeasurement(), target_);
-      result.overlay->board_corners = start_corners_;
+      result.overlay->board_corners = wholeBoardCorners(start_corners_);
     }
   } else {
     {

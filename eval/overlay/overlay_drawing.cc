@@ -300,11 +300,11 @@ cv::Mat OverlayDrawer::draw(const Frame& frame, const FrameResult& result, std::
       }
     }
     // Corners last: the detection is what the back-end's pose rests on.
-    for (size_t i = 0; i < o.board_corners.size(); ++i) {
-      if (!drawable(o.board_corners[i])) continue;
-      cv::drawMarker(image, nearestPixel(o.board_corners[i]), overlay_colour::kBoardCorner, cv::MARKER_CROSS,
-                     2 * st.marker + 3, st.thickness, cv::LINE_8);
-      list.push_back({"board_corner", static_cast<int>(i), o.board_corners[i], "detected"});
+    for (const OverlayBoardCorner& c : o.board_corners) {
+      if (!drawable(c.uv)) continue;
+      cv::drawMarker(image, nearestPixel(c.uv), overlay_colour::kBoardCorner, cv::MARKER_CROSS, 2 * st.marker + 3,
+                     st.thickness, cv::LINE_8);
+      list.push_back({"board_corner", c.id, c.uv, "detected"});
     }
   }
   if (drawn) *drawn = std::move(list);

@@ -206,8 +206,10 @@ TEST(CslamTracker, OverlayBoardCornersMatchTheGroundTruth) {
     ASSERT_TRUE(r.overlay);
     const SE3 T_camera_world = (*seq.groundtruth)[frames++].T_world_camera.inverse();
     ASSERT_EQ(r.overlay->board_corners.size(), corners.size());
-    for (size_t i = 0; i < corners.size(); ++i)
-      EXPECT_LT((r.overlay->board_corners[i] - seq.camera->project(T_camera_world * corners[i])).norm(), 0.5) << i;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      EXPECT_EQ(r.overlay->board_corners[i].id, static_cast<int>(i));
+      EXPECT_LT((r.overlay->board_corners[i].uv - seq.camera->project(T_camera_world * corners[i])).norm(), 0.5) << i;
+    }
     ASSERT_EQ(r.overlay->board_axes.size(), 4u);
     EXPECT_LT((r.overlay->board_axes[0] - seq.camera->project(T_camera_world * Vec3::Zero())).norm(), 0.5);
     // Features are detected after the first frame's overlay, tracked from the second on.

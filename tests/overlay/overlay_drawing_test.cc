@@ -51,14 +51,15 @@ FrameResult resultWith(FrameOverlay overlay, const std::string& source = "board"
 TEST(OverlayDrawing, BoardCornersAndAxesInTheirColoursAtTheirPixels) {
   FrameOverlay o;
   for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 4; ++i) o.board_corners.push_back(Vec2(300.3 + 30 * i, 200.6 + 30 * j));
+    for (int i = 0; i < 4; ++i) o.board_corners.push_back({10 * j + i, Vec2(300.3 + 30 * i, 200.6 + 30 * j)});
   o.board_axes = {Vec2(300.3, 200.6), Vec2(360.2, 200.6), Vec2(300.3, 260.1), Vec2(280.0, 150.0)};
   OverlayDrawer drawer;
   std::vector<DrawnPrimitive> drawn;
   const cv::Mat image = drawer.draw(greyFrame(), resultWith(o), &drawn);
   ASSERT_EQ(image.type(), CV_8UC3);
   ASSERT_EQ(image.size(), cv::Size(640, 480));
-  for (const Vec2& uv : o.board_corners) EXPECT_EQ(at(image, uv), bgr(overlay_colour::kBoardCorner)) << uv.transpose();
+  for (const OverlayBoardCorner& c : o.board_corners)
+    EXPECT_EQ(at(image, c.uv), bgr(overlay_colour::kBoardCorner)) << c.uv.transpose();
   // Along each axis, half way from the origin (away from the corner markers' arms for y and z).
   EXPECT_LE(nearestColourError(image, Vec2(300.3, 215), overlay_colour::kAxisY, 1), 40);
   EXPECT_LE(nearestColourError(image, Vec2(290.2, 175.3), overlay_colour::kAxisZ, 1), 40);
@@ -67,7 +68,8 @@ TEST(OverlayDrawing, BoardCornersAndAxesInTheirColoursAtTheirPixels) {
   int corners = 0, axes = 0;
   for (const auto& d : drawn) {
     if (d.kind == "board_corner") {
-      EXPECT_EQ(d.uv, o.board_corners.at(d.id));
+      // Listed by the target's own index (here 10 j + i), not by their place in the list.
+      EXPECT_EQ(d.uv, o.board_corners.at(4 * (d.id / 10) + d.id % 10).uv) << d.id;
       EXPECT_EQ(d.state, "detected");
       ++corners;
     } else if (d.kind == "board_axis") {
@@ -210,7 +212,7 @@ TEST(OverlayDrawing, TextGrowsWithTheImage) {
 TEST(OverlayDrawing, NonFinitePositionsAreSkipped) {
   FrameOverlay o;
   o.features = {{1, Vec2(NAN, 3), OverlayFeatureState::Inlier}, {2, Vec2(1e12, 3), OverlayFeatureState::Matched}};
-  o.board_corners = {Vec2(INFINITY, 1)};
+  o.board_corners = {{0, Vec2(INFINITY, 1)}};
   o.search_ellipses = {{3, Vec2(100, 100), Mat2::Zero(), true}};
   o.particle_lines = {{Vec2(NAN, NAN)}};
   OverlayDrawer drawer;

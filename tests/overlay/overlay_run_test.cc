@@ -69,6 +69,24 @@ std::string pngName(int frame) {
   return name;
 }
 
+// An overlay.csv board corner lies within 1 px of where the ground truth projects the target's
+// corner of its id (index j * cols + i, SPEC section 2).
+void expectCornerAtItsTruth(const CsvRow& row, const std::string& sequence, const std::vector<FrameRow>& frames) {
+  const CameraModel camera = readCameraYaml(sequence + "/camera.yaml");
+  const ChessboardTarget target = readTargetYaml(sequence + "/target.yaml");
+  const Trajectory groundtruth = readTrajectory(sequence + "/groundtruth.txt");
+  ASSERT_GE(row.id, 0);
+  ASSERT_LT(row.id, target.numCorners());
+  const FrameRow& f = frames.at(row.frame);
+  const StampedPose* gt = nullptr;
+  for (const StampedPose& p : groundtruth)
+    if (std::abs(p.timestamp - f.timestamp) < 1e-6) gt = &p;
+  ASSERT_NE(gt, nullptr) << "no ground truth at " << f.timestamp;
+  const Vec3 p_world = target.cornerWorld(row.id % target.cols, row.id / target.cols);
+  const Vec2 uv_truth = camera.project(gt->T_world_camera.inverse() * p_world);
+  EXPECT_LT((row.uv - uv_truth).norm(), 1.0) << "frame " << row.frame << " corner " << row.id;
+}
+
 class OverlayRun : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -93,7 +111,6 @@ TEST_F(OverlayRun, CslamPngsShowTheBoardWhereTheGroundTruthProjectsIt) {
 
   const CameraModel camera = readCameraYaml(sequence() + "/camera.yaml");
   const ChessboardTarget target = readTargetYaml(sequence() + "/target.yaml");
-  const Trajectory groundtruth = readTrajectory(sequence() + "/groundtruth.txt");
   const std::vector<FrameRow> frames = readFramesCsv(tmp.file("out/frames.csv"));
   ASSERT_EQ(frames.size(), static_cast<size_t>(kFrames));
   std::map<int, cv::Mat> pngs;
@@ -119,17 +136,7 @@ TEST_F(OverlayRun, CslamPngsShowTheBoardWhereTheGroundTruthProjectsIt) {
     }
     if (row.kind != "board_corner") continue;
     ASSERT_TRUE(pngs.count(row.frame)) << "overlay.csv names frame " << row.frame;
-    ASSERT_GE(row.id, 0);
-    ASSERT_LT(row.id, target.numCorners());
-    const FrameRow& f = frames.at(row.frame);
-    const StampedPose* gt = nullptr;
-    for (const StampedPose& p : groundtruth)
-      if (std::abs(p.timestamp - f.timestamp) < 1e-6) gt = &p;
-    ASSERT_NE(gt, nullptr) << "no ground truth at " << f.timestamp;
-    // Corner index j * cols + i (SPEC section 2).
-    const Vec3 p_world = target.cornerWorld(row.id % target.cols, row.id / target.cols);
-    const Vec2 uv_truth = camera.project(gt->T_world_camera.inverse() * p_world);
-    EXPECT_LT((row.uv - uv_truth).norm(), 1.0) << "frame " << row.frame << " corner " << row.id;
+    expectCornerAtItsTruth(row, sequence(), frames);
     const cv::Point pixel(static_cast<int>(std::lround(row.uv.x())), static_cast<int>(std::lround(row.uv.y())));
     const cv::Scalar red = overlay_colour::kBoardCorner;
     EXPECT_EQ(pngs[row.frame].at<cv::Vec3b>(pixel), cv::Vec3b(red[0], red[1], red[2]))
@@ -145,6 +152,35 @@ TEST_F(OverlayRun, CslamPngsShowTheBoardWhereTheGroundTruthProjectsIt) {
     }
   EXPECT_GE(board_frames, 1);
   EXPECT_GT(features, 0);
+}
+
+// Where part of the board has left the image (board_partial from frame 17), each corner listed is
+// still the target's corner of its id, for cslam and hybrid; and hybrid draws the corners of the
+// frame it starts from.
+TEST(OverlayRunPartialBoard, CornersKeepTheTargetsIds) {
+  TempDir tmp;
+  SynthOptions synth;
+  synth.preset = "board_partial";
+  synth.frames = 20;
+  synth.supersample = 1;
+  writeSyntheticSequence(synth, tmp.file("bp"));
+  for (const char* backend : {"cslam", "hybrid"}) {
+    const std::string out = tmp.file(std::string("out_") + backend);
+    const test::CommandResult r = test::runSlamcmp(std::string("run --backend ") + backend + " --sequence " +
+                                                   tmp.file("bp") + " --out " + out + " --overlay " + out + "/ov");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::vector<FrameRow> frames = readFramesCsv(out + "/frames.csv");
+    std::map<int, int> corners_in_frame;
+    for (const CsvRow& row : readOverlayCsv(out + "/ov/overlay.csv")) {
+      if (row.kind != "board_corner") continue;
+      expectCornerAtItsTruth(row, tmp.file("bp"), frames);
+      ++corners_in_frame[row.frame];
+    }
+    EXPECT_EQ(corners_in_frame[0], 54) << backend;  // the start
+    int partial = 0;
+    for (const auto& [frame, corners] : corners_in_frame) partial += corners >= 27 && corners < 54;
+    EXPECT_GE(partial, 2) << backend;
+  }
 }
 
 TEST_F(OverlayRun, MonoslamPngsAreWrittenForEveryFrame) {
