@@ -119,6 +119,9 @@ std::vector<Vec2> CslamTracker::featuresNormalised() const {
 
 bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* result) {
   ++calibration_frames_;
+  // Every frame is searched: a view for the calibration is worth a search's cost, and after a miss
+  // the tracker's interval skipped frames showing the whole board (video_chessboard 102, 103, 174, 175).
+  board_.searchNextFrame();
   const auto corners = board_.find(frame.grey, {}, {}, cv::Size(), 0, nullptr);
   if (corners) {
     calibrator_->addView(*corners);

@@ -130,6 +130,9 @@ class BoardCornerTracker {
   BoardFound lastFound() const { return last_found_; }
   // Forget the last corners (the next call searches).
   void reset() { corners_ = {}; }
+  // The next call searches the whole image whatever search_interval_when_lost says (a view worth
+  // its cost, e.g. one for self-calibration).
+  void searchNextFrame() { frames_since_search_ = kNeverSearched; }
 
  private:
   bool confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv, const CameraModel& camera) const;

@@ -159,6 +159,14 @@ TEST_F(BoardCornerTrackerTv1, PredictedAwayTheWholeImageIsSearchedOnlyNowAndThen
   }
   // The last whole search was 5 frames before: due at once, then every third frame.
   EXPECT_EQ(searched, (std::vector<int>{0, 3, 6}));
+  // Asked for (a self-calibration's views), the next frame is searched whatever the interval.
+  searched.clear();
+  for (int k = 0; k < 4; ++k) {
+    if (k == 1) tracker.searchNextFrame();
+    EXPECT_FALSE(tracker.findCorners(no_board, {}, no_board_pyramid, kWindow, kLevels, *camera_, nullptr, true));
+    if (tracker.lastSearchedWholeImage()) searched.push_back(k);
+  }
+  EXPECT_EQ(searched, (std::vector<int>{1}));
 }
 
 // Once the board has been seen, a whole-image search first counts the frame's X-junctions
