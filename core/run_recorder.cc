@@ -61,10 +61,8 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
   for (const auto& [stage, stage_ms] : r.stages) stage_ms_[stage].push_back(stage_ms);
   const Row row{frame.index, frame.timestamp, r.status, r.source, r.T_world_camera, r.features, r.measured,
                 r.reason, ms, cpu_ms, decode_ms};
-  if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
-    waiting_.push_back(row);
-    return;
-  }
+  // The late poses first: the frame bringing them may itself be unposed (a calibration accepted in
+  // a frame whose own start failed), and they would be lost with it.
   for (const LatePose& late : r.late_poses) {
     const auto at = std::find_if(waiting_.begin(), waiting_.end(),
                                  [&](const Row& w) { return w.index == late.frame_index; });
@@ -74,6 +72,10 @@ void RunRecorder::record(const Frame& frame, const FrameResult& r, double ms, do
     at->T_world_camera = late.T_world_camera;
     at->measured = late.measured;
     at->reason.clear();
+  }
+  if (r.status == TrackStatus::Initialising && !r.T_world_camera) {
+    waiting_.push_back(row);
+    return;
   }
   flush();
   write(row);

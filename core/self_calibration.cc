@@ -14,6 +14,7 @@
 namespace slamcmp {
 
 void SelfCalibrationOptions::check() const {
+  if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
   if (min_views < 3) throw OptionError("min_views", "must be >= 3 (Zhang needs three views)");
   if (max_views < min_views) throw OptionError("max_views", "must be >= min_views");
   if (max_frames < 1) throw OptionError("max_frames", "must be >= 1");

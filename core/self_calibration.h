@@ -27,6 +27,7 @@ struct SelfCalibrationOptions {
   // 3.5 degrees fitted fx 950 for 525 at 0.05 px rms. The calibration sets measure 50-100 degrees
   // (Bouguet's, OpenCV's, the phone video), vamr_checkerboard 22.
   double min_view_spread_deg = 10;  // the largest angle between two views' board normals, at least
+  int max_late_poses = 1000;  // frames that showed the board while views were gathered, posed once calibrated
   template <class V>
   void visit(V& v) {
     v("max_views", max_views, "board views used at most");
@@ -39,6 +40,9 @@ struct SelfCalibrationOptions {
     v("min_view_spread_deg", min_view_spread_deg,
       "degrees; views whose board normals all lie closer than this to each other (parallel views) are refused: "
       "they do not determine the focal length");
+    v("max_late_poses", max_late_poses,
+      "frames that showed the board while views were gathered, posed from their corners once calibrated (the last "
+      "this many)");
   }
   void check() const;
 };

@@ -22,7 +22,6 @@ void CslamOptions::check() const {
   if (min_scale_points < 1) throw OptionError("min_scale_points", "must be >= 1");
   if (!(max_map_error_px > 0)) throw OptionError("max_map_error_px", "must be positive");
   if (two_view_init_map_points < 1) throw OptionError("two_view_init_map_points", "must be >= 1");
-  if (max_late_poses < 0) throw OptionError("max_late_poses", "must be >= 0");
 }
 
 void CslamOptions::checkImage(cv::Size image) const {
@@ -72,7 +71,7 @@ CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTa
     focal_px_ = 0.5 * (camera_->fx + camera_->fy);
     makeMap();
   } else {
-    calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
+    calibration_views_.emplace(target_, image_size_, options_.calibration, options_.board_pose);
   }
 }
 
@@ -88,7 +87,7 @@ nlohmann::json CslamTracker::options() const {
 
 void CslamTracker::finish() {
   if (!camera_)
-    throw InputError("", calibrator_->whyNotCalibrated());
+    throw InputError("", calibration_views_->whyNotCalibrated());
   if (posed_frames_ == 0)  // every mode needs the board once: it sets the world frame and the scale
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }
@@ -118,33 +117,23 @@ std::vector<Vec2> CslamTracker::featuresNormalised() const {
 }
 
 bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* result) {
-  ++calibration_frames_;
   // Every frame is searched: a view for the calibration is worth a search's cost, and after a miss
   // the tracker's interval skipped frames showing the whole board (video_chessboard 102, 103, 174, 175).
   board_.searchNextFrame();
   const auto corners = board_.find(frame.grey, {}, {}, cv::Size(), 0, nullptr);
-  if (corners) {
-    calibrator_->addView(*corners);
-    gathered_.push_back({frame.index, *corners});
-    if (static_cast<int>(gathered_.size()) > options_.max_late_poses) gathered_.pop_front();
-  }
-  const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
   std::string refused;  // why a calibration tried on this frame was not used
-  if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
-    if (const auto calibrated = calibrator_->calibrate(&refused)) {
-      camera_ = calibrated->camera;
-      calibration_rms_px_ = calibrated->rms_px;
-      focal_px_ = 0.5 * (camera_->fx + camera_->fy);
-      makeMap();
-      calibrator_.reset();
-      if (!gathered_.empty() && gathered_.back().frame_index == frame.index) gathered_.pop_back();  // posed below
-      result->late_poses = posesOfGatheringFrames();
-      return true;
-    }
+  if (const auto calibrated = calibration_views_->add(frame.index, corners ? &*corners : nullptr, &refused)) {
+    camera_ = calibrated->camera;
+    calibration_rms_px_ = calibrated->rms_px;
+    focal_px_ = 0.5 * (camera_->fx + camera_->fy);
+    makeMap();
+    result->late_poses = calibration_views_->latePoses(*camera_, frame.index);  // this frame is posed below
+    calibration_views_.reset();
+    return true;
   }
   result->status = TrackStatus::Initialising;
-  result->reason = "gathering board views for self-calibration (" + std::to_string(calibrator_->numViews()) +
-                   " of " + std::to_string(options_.calibration.min_views) + ")" + (refused.empty() ? "" : "; " + refused);
+  result->reason = "gathering board views for self-calibration (" + calibration_views_->progress() + ")" +
+                   (refused.empty() ? "" : "; " + refused);
   return false;
 }
 
@@ -198,23 +187,6 @@ CslamTracker::BoardView CslamTracker::boardView(BoardCorners corners) const {
   view.T_world_camera = pose.T_camera_board.inverse();
   view.rms_px = pose.rms_px;
   return view;
-}
-
-std::vector<LatePose> CslamTracker::posesOfGatheringFrames() {
-  // The board tracker numbered each view's corners from the origin nearest the view before, so a
-  // symmetric board's origin is already the same in all of them and in the frames to come.
-  std::vector<LatePose> late;
-  late.reserve(gathered_.size());
-  for (const GatheredCorners& g : gathered_) {
-    BoardCorners corners;
-    corners.uv = g.uv;
-    corners.ids.resize(g.uv.size());
-    for (size_t k = 0; k < g.uv.size(); ++k) corners.ids[k] = static_cast<int>(k);
-    corners.complete = true;
-    late.push_back({g.frame_index, "board", boardView(std::move(corners)).T_world_camera, static_cast<int>(g.uv.size())});
-  }
-  gathered_.clear();
-  return late;
 }
 
 SE3 CslamTracker::fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index,

@@ -30,7 +30,7 @@
 #include "cslam/keyframe_window.h"
 #include "tracking/feature_tracker.h"
 #include "geometry/homography_pose.h"
-#include "core/self_calibration.h"
+#include "tracking/calibration_views.h"
 #include "geometry/two_view_motion.h"
 
 namespace slamcmp {
@@ -56,7 +56,6 @@ struct CslamOptions {
   BoardOdometryFusionOptions fusion;
   int two_view_init_map_points = 40;  // two_view mode: the board is used until the map holds this many points
   SelfCalibrationOptions calibration;
-  int max_late_poses = 1000;  // frames gathering calibration views whose board corners wait to be posed
   template <class V>
   void visit(V& v) {
     v("lk_window_px", lk_window_px, "Lucas-Kanade window side, pixels (board corners and features)");
@@ -86,8 +85,6 @@ struct CslamOptions {
     v("two_view_init_map_points", two_view_init_map_points,
       "two_view mode: the board sets the world frame and scale until the map holds this many points");
     v("calibration", calibration, "self-calibration when no camera file is given");
-    v("max_late_poses", max_late_poses,
-      "frames that showed the board before self-calibration, posed from their corners once it is done (the last this many)");
   }
   void check() const;
   void checkImage(cv::Size image) const;  // the Lucas-Kanade window fits in the image
@@ -134,8 +131,6 @@ class CslamTracker : public Tracker {
   std::optional<BoardView> boardPoseInFrame(const cv::Mat& grey, const std::optional<SE3>& T_world_predicted,
                                             FrameResult* result);
   BoardView boardView(BoardCorners corners) const;  // the pose from the corners
-  // The frames that gathered calibration views, posed now that the camera is known.
-  std::vector<LatePose> posesOfGatheringFrames();
   // Combined mode: the board pose fused with the features' motion from the previous frame (xy:
   // the features' coordinates).
   SE3 fuseBoardAndMap(const BoardView& board, const std::vector<Vec2>& xy, int frame_index, FrameResult* result);
@@ -201,16 +196,10 @@ class CslamTracker : public Tracker {
   BoardOdometryFusion fusion_;
   std::unique_ptr<FeatureMap> map_;        // the thesis's map (in combined mode, for the fusion's motion)
   std::unique_ptr<KeyframeWindow> window_;  // combined mode's refined map
-  std::unique_ptr<SelfCalibrator> calibrator_;
+  std::optional<CalibrationViews> calibration_views_;  // while self-calibrating
   // Calibration and two_view modes: where the board is while no pose says so.
   std::optional<BoardImageMotion> board_motion_;
   std::unordered_map<int, Vec2> xy_previous_;  // the previous frame's features by id (for board_motion_)
-  int calibration_frames_ = 0;
-  struct GatheredCorners {
-    int frame_index;
-    std::vector<cv::Point2f> uv;
-  };
-  std::deque<GatheredCorners> gathered_;  // while self-calibrating: the frames that showed the board
   std::optional<double> calibration_rms_px_;
 
   std::vector<cv::Mat> pyramid_prev_, pyramid_;

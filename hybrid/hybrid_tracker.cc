@@ -30,7 +30,7 @@ HybridTracker::HybridTracker(const TrackerContext& context, const HybridOptions&
     image_size_ = cv::Size(camera_->width, camera_->height);
     startFilter(*camera_);
   } else {
-    calibrator_ = std::make_unique<SelfCalibrator>(target_, image_size_, options_.calibration);
+    calibration_views_.emplace(target_, image_size_, options_.calibration, BoardPoseOptions{});
   }
 }
 
@@ -54,29 +54,29 @@ nlohmann::json HybridTracker::options() const {
 void HybridTracker::finish() {
   if (ever_started_) return;
   if (!camera_)
-    throw InputError("", calibrator_->whyNotCalibrated());
+    throw InputError("", calibration_views_->whyNotCalibrated());
   throw InputError("", "hybrid never started: no frame showed the " + std::to_string(target_.cols) + "x" +
                            std::to_string(target_.rows) + " chessboard");
 }
 
 bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
-  ++calibration_frames_;
   std::vector<cv::Point2f> corners;
-  if (detectChessboard(frame.grey, target_, &corners, options_.corners.detector)) calibrator_->addView(corners);
+  const bool seen = detectChessboard(frame.grey, target_, &corners, options_.corners.detector);
   std::string refused;  // why a calibration tried on this frame was not used
-  const bool enough = calibrator_->numViews() >= options_.calibration.min_views;
-  if (calibrator_->full() || (enough && calibration_frames_ >= options_.calibration.max_frames)) {
-    if (const auto calibration = calibrator_->calibrate(&refused)) {
-      camera_ = calibration->camera;
-      calibration_rms_px_ = calibration->rms_px;
-      calibrator_.reset();
-      startFilter(*camera_);
-      return true;
-    }
+  if (const auto calibration = calibration_views_->add(frame.index, seen ? &corners : nullptr, &refused)) {
+    camera_ = calibration->camera;
+    calibration_rms_px_ = calibration->rms_px;
+    // The frames that showed the board, posed from it; this one starts the filter. A symmetric
+    // board's origin carries on from them (start() keeps it nearest the last pose).
+    result->late_poses = calibration_views_->latePoses(*camera_, frame.index);
+    if (!result->late_poses.empty()) last_pose_ = result->late_poses.back().T_world_camera;
+    calibration_views_.reset();
+    startFilter(*camera_);
+    return true;
   }
   result->status = TrackStatus::Initialising;
-  result->reason = "gathering self-calibration views (" + std::to_string(calibrator_->numViews()) + " of " +
-                   std::to_string(options_.calibration.min_views) + ")" + (refused.empty() ? "" : "; " + refused);
+  result->reason = "gathering self-calibration views (" + calibration_views_->progress() + ")" +
+                   (refused.empty() ? "" : "; " + refused);
   return false;
 }
 

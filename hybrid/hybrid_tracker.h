@@ -12,13 +12,13 @@
 #include <vector>
 
 #include "core/backend_registry.h"
-#include "core/self_calibration.h"
 #include "core/tracker.h"
 #include "ekf/ekf_options.h"
 #include "ekf/ekf_slam.h"
 #include "ekf/pose_reporting.h"
 #include "hybrid/board_corner_measurement.h"
 #include "hybrid/tracked_motion.h"
+#include "tracking/calibration_views.h"
 
 namespace slamcmp {
 
@@ -119,8 +119,7 @@ class HybridTracker : public Tracker {
   bool want_overlay_ = false;
 
   std::optional<CameraModel> camera_;
-  std::unique_ptr<SelfCalibrator> calibrator_;
-  int calibration_frames_ = 0;
+  std::optional<CalibrationViews> calibration_views_;  // while self-calibrating
   std::optional<double> calibration_rms_px_;
 
   std::unique_ptr<EkfSlam> slam_;

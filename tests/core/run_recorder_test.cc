@@ -208,6 +208,29 @@ TEST(RunRecorder, LatePosesFillTheInitialisingFramesInOrder) {
   EXPECT_EQ(s["lost_reasons"]["gathering board views for self-calibration (# of #)"], 1);
 }
 
+// The frame that brings the late poses may be unposed itself (a calibration accepted where the
+// filter could not start): the earlier frames are posed all the same.
+TEST(RunRecorder, LatePosesFromAnUnposedFrameAreKept) {
+  test::TempDir dir;
+  const SE3 T0 = SE3::fromRotvec(Vec3(0.1, 0.0, 0.0), Vec3(0.1, 0.0, -1.0));
+  FrameResult initialising;
+  initialising.status = TrackStatus::Initialising;
+  {
+    RunRecorder recorder(dir.path(), "hybrid");
+    recorder.record(frameAt(0), initialising, 1.0, 0.5, 0.0);
+    FrameResult calibrated_not_started = initialising;
+    calibrated_not_started.late_poses = {{0, "board", T0, 54}};
+    recorder.record(frameAt(1), calibrated_not_started, 1.0, 0.5, 0.0);
+    recorder.writeSummary(nlohmann::json::object());
+    EXPECT_EQ(recorder.tracked(), 1);
+  }
+  const auto lines = readLines(dir.file("frames.csv"));
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(splitCsv(lines[1])[2], "board");
+  EXPECT_EQ(splitCsv(lines[2])[2], "initialising");
+  EXPECT_EQ(readTrajectory(dir.file("trajectory.txt")).size(), 1u);
+}
+
 TEST(RunRecorder, AllTrackedHasNoFirstLostFrame) {
   test::TempDir dir;
   RunRecorder recorder(dir.path(), "monoslam");

@@ -117,6 +117,12 @@ TrackedRun runOn(const std::string& path, int max_frames = -1, bool with_camera 
     }
     s.reason = r.reason;
     run.frames.push_back(s);
+    for (const LatePose& late : r.late_poses) {  // earlier frames posed once self-calibrated
+      EXPECT_LT(late.frame_index, i);
+      FrameScore& earlier = run.frames.at(late.frame_index);
+      EXPECT_FALSE(earlier.error.has_value()) << "frame " << late.frame_index << " posed twice";
+      earlier.error = (late.T_world_camera.t() - seq.groundtruth->at(late.frame_index).T_world_camera.t()).norm();
+    }
   }
   try {
     tracker.finish();
@@ -438,12 +444,14 @@ TEST(HybridTracker, LargeRollThroughAStrongLens) {
 
 // Without a camera file: initialising while it gathers board views (the first 150 frames of the
 // real vamr_checkerboard, whose handheld tilts give enough distinct views; the presets' steady
-// distance gives too few), then calibrated and tracking.
+// distance gives too few), then calibrated and tracking; the frames that gathered views are posed
+// late from their corners, as cslam's (every one of the 200 shows the board; measured 1.14 mm RMS
+// over all 200; without the late poses 51 were posed, 1.13 mm).
 TEST(HybridTracker, SelfCalibratesWithoutACameraFile) {
   SLAMCMP_REQUIRE_SHARED(shared);
   const TrackedRun run = runOn(shared + "/vamr_checkerboard", 200, false);
   EXPECT_FALSE(run.finish_refused);
-  EXPECT_GE(run.posed(), 40);
+  EXPECT_EQ(run.posed(), 200);
   EXPECT_LT(run.rmsWhere([](const FrameScore&) { return true; }), 0.005);
 }
 
