@@ -161,10 +161,11 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
     auto it = trial_seqs.find(planned.sequence_path);
     if (it == trial_seqs.end()) it = trial_seqs.emplace(planned.sequence_path, readSequenceInfo(planned.sequence_path)).first;
     runs.push_back(collectRun(plan, planned, dir, it->second));
-    if (runs.back().status != "ok") not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
+    if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }
   fs::remove_all(dir + "/figures", ec);  // an earlier collect's figures are redrawn, or gone
-  fs::create_directories(dir + "/figures");
+  fs::create_directories(dir + "/figures", ec);
+  if (ec) throw InputError(dir + "/figures", "cannot be created: " + ec.message());
   if (unfinished) *unfinished = not_finished;
   return writeCompareReport(plan, seqs, runs, dir);
 }

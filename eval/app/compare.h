@@ -2,7 +2,8 @@
 // `compare` and `reproduce`: several back-ends (and their modes, and settings of their options) on
 // several sequences, several trials each. A compare is a plan of runs (compare_plan.h), the runs
 // (each one `slamcmp run` process: job_runner.h, GNU parallel or Slurm) and the report collected
-// from their folders (eval/report/compare_collect.h); locally the three follow each other.
+// from their folders (collectCompare below, the report itself eval/report/compare_report.h); locally
+// the three follow each other.
 #include <string>
 #include <vector>
 
@@ -10,13 +11,13 @@
 
 namespace slamcmp {
 
-// "backend" or "backend:mode" as a Method with the registry's colour; InputError(where, ...) for
-// an unknown back-end or mode.
+// A back-end and its mode ("" = its default) as a Method with the registry's colour;
+// InputError(where, ...) for an unknown back-end or mode.
 Method methodOf(const std::string& backend, const std::string& mode, const std::string& where);
 // Every registered back-end in every mode, in registry order (reproduce's list).
 std::vector<Method> allMethods();
-// Comma-separated list; throws InputError for an unknown back-end or mode, an entry listed twice or
-// an empty list.
+// Comma-separated list of backend[:mode][@init]; throws InputError for an unknown back-end, mode or
+// start, an entry listed twice or an empty list.
 std::vector<Method> parseMethods(const std::string& list);
 
 struct CompareOptions {

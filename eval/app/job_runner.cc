@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.h"
 #include "core/progress.h"
 #include "eval/app/compare_plan.h"
 #include "eval/app/run_sequence.h"
@@ -25,15 +26,18 @@ namespace {
 pid_t startRun(const PlannedRun& run, const std::string& dir) {
   const std::string log = (std::filesystem::path(dir) / run.log).string();
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot write " + log);
+  if (fd < 0) throw InputError(log, "cannot be written");
   std::vector<char*> argv;
   for (const std::string& a : run.argv) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  // What the log says if the program cannot be started (collect quotes a log's last line).
+  const std::string cannot_start = "slamcmp: cannot execute " + run.argv.front() + "\n";
   const pid_t pid = fork();
   if (pid == 0) {
     dup2(fd, STDOUT_FILENO);
     dup2(fd, STDERR_FILENO);
     execv(argv[0], argv.data());
+    if (write(STDERR_FILENO, cannot_start.data(), cannot_start.size()) < 0) _exit(127);
     _exit(127);
   }
   close(fd);
@@ -53,8 +57,15 @@ bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs) {
   bool stopping = false;
   Progress progress("compare", static_cast<int>(plan.runs.size()));
   while (true) {
-    while (!interrupted() && next < plan.runs.size() && static_cast<int>(running.size()) < std::max(1, jobs))
-      running.push_back({startRun(plan.runs[next], dir), next}), ++next;
+    try {
+      while (!interrupted() && next < plan.runs.size() && static_cast<int>(running.size()) < std::max(1, jobs))
+        running.push_back({startRun(plan.runs[next], dir), next}), ++next;
+    } catch (...) {
+      // A run that cannot start stops the compare: the runs started stop too, before it reports.
+      for (const Running& r : running) kill(r.pid, SIGTERM);
+      for (const Running& r : running) waitpid(r.pid, nullptr, 0);
+      throw;
+    }
     if (running.empty()) break;
     if (interrupted() && !stopping) {
       // A terminal's Ctrl-C reaches the runs too; a SIGTERM or SIGHUP sent to compare alone does not.

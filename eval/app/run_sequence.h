@@ -16,12 +16,12 @@ struct RunRequest {
   std::string out_dir;        // "" = runs/<sequence>-<backend>[-<mode>]
   std::string config_path;    // YAML with one section per back-end; "" = defaults
   std::vector<std::string> sets;  // --set section.key=value overrides of the config
-  std::optional<int> seed;        // --seed: every random seed of the back-end ("" = its defaults)
+  std::optional<int> seed;        // --seed: every random seed of the back-end (none = its defaults)
   std::string camera_path;    // overrides camera.yaml
   std::string target_path;    // overrides target.yaml
   int max_frames = -1;        // < 0: all
   std::string mode;           // back-end mode ("" = its default)
-  std::string init;           // board | groundtruth | manual:FILE; "" = board for back-ends that take it
+  std::string init;           // board | groundtruth | manual:FILE | none; "" = board for back-ends that take it
   bool progress = true;       // a progress line on a terminal
   std::string overlay_path;   // run --overlay: video file or PNG folder of drawn frames; "" = none
   bool show = false;          // run --show: the drawn frames in a live window

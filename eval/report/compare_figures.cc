@@ -54,7 +54,7 @@ Figure mapFigure(const SequenceInfo& seq, const std::vector<RunResult>& runs) {
   const char* names[] = {"top view (X-Z)", "side view (Z-Y, Y down)"};
   const char* axis[] = {"X [m]", "Y [m]", "Z [m]"};
   for (const RunResult& r : runs) {
-    if (!r.error.empty() || !r.map_errors) continue;
+    if (!r.finished() || !r.map_errors) continue;
     for (int v = 0; v < 2; ++v) {
       const int a = views[v].first, b = views[v].second;
       PlotPanel p;
@@ -108,7 +108,10 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   // Frame axis from the first run that has frames; ground truth associated by timestamp.
   const RunResult* ref = nullptr;
   for (const auto& r : runs)
-    if (r.error.empty() && !r.frames.empty()) ref = &r;
+    if (r.finished() && !r.frames.empty()) {
+      ref = &r;
+      break;
+    }
   if (!ref) return written;
   std::vector<std::optional<SE3>> gt_poses;
   if (seq.groundtruth) gt_poses = posesByFrame(ref->frames, *seq.groundtruth);
@@ -116,7 +119,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
   std::vector<std::vector<std::optional<SE3>>> poses;
   bool any_aligned = false;
   for (const auto& r : runs) {
-    std::vector<std::optional<SE3>> ps = r.error.empty() ? posesByFrame(r.frames, r.trajectory)
+    std::vector<std::optional<SE3>> ps = r.finished() ? posesByFrame(r.frames, r.trajectory)
                                                          : std::vector<std::optional<SE3>>();
     if (r.errors && r.errors->align == "sim3") {
       any_aligned = true;
@@ -135,7 +138,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
       panel.series.push_back(g);
     }
     for (size_t k = 0; k < runs.size(); ++k)
-      if (runs[k].error.empty())
+      if (runs[k].finished())
         panel.series.push_back(frameSeries(runs[k].method.label(), runs[k].method.colour, poses[k],
                                            runs[k].frames, f));
   };
@@ -174,7 +177,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
       };
       if (seq.groundtruth) addXY("ground truth", "#888888", 3, gt_poses);
       for (size_t k = 0; k < runs.size(); ++k)
-        if (runs[k].error.empty()) addXY(runs[k].method.label(), runs[k].method.colour, 1.5, poses[k]);
+        if (runs[k].finished()) addXY(runs[k].method.label(), runs[k].method.colour, 1.5, poses[k]);
       fig.panels.push_back(p);
     }
     save(fig, "trajectory");
@@ -210,7 +213,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
     PlotPanel pt{"position error", "frame", "error [m]", {}, false, true};
     PlotPanel pr{"orientation error", "frame", "error [deg]", {}, false, true};
     for (size_t k = 0; k < runs.size(); ++k) {
-      if (!runs[k].error.empty()) continue;
+      if (!runs[k].finished()) continue;
       const std::string label = runs[k].method.label(), colour = runs[k].method.colour;
       const auto gt = posesByFrame(runs[k].frames, *seq.groundtruth);
       auto err = [&](auto f) {
@@ -237,7 +240,7 @@ std::vector<std::string> writeCompareFigures(const SequenceInfo& seq, const std:
     fig.title = seq.name + ": CPU time per frame (the tracking thread's, decoding excluded, one core)";
     PlotPanel p{"", "frame", "CPU ms per frame", {}, false, true};
     for (const auto& r : runs) {
-      if (!r.error.empty()) continue;
+      if (!r.finished()) continue;
       PlotSeries s;
       s.label = r.method.label();
       s.color = r.method.colour;

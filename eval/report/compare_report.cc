@@ -135,24 +135,6 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   return r;
 }
 
-std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
-                                                   size_t m) {
-  std::vector<std::vector<TimedNees>> trials;
-  for (size_t k = 0; k < runs.size(); ++k)
-    if (plan.runs[k].sequence == s && plan.runs[k].method == m && plan.runs[k].seed_kind == "render" &&
-        runs[k].status == "ok" && !runs[k].nees.empty())
-      trials.push_back(runs[k].nees);
-  if (trials.size() < 2) return std::nullopt;
-  return monteCarloNees(trials);
-}
-
-namespace {
-
-constexpr const char* kReportFile = "report.md";
-constexpr const char* kResultsFile = "results.csv";
-constexpr const char* kTable31File = "table_3_1.csv";
-constexpr const char* kTable32File = "table_3_2.csv";
-
 // The plan's runs of sequence s and method m, in trial order.
 std::vector<const RunResult*> cellRuns(const Plan& plan, const std::vector<RunResult>& runs, size_t s, size_t m) {
   std::vector<const RunResult*> out;
@@ -168,6 +150,24 @@ std::vector<double> cellValues(const std::vector<const RunResult*>& cell, const 
     if (const double x = runValue(*r, column); std::isfinite(x)) v.push_back(x);
   return v;
 }
+
+std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::vector<RunResult>& runs, size_t s,
+                                                   size_t m) {
+  std::vector<std::vector<TimedNees>> trials;
+  for (size_t k = 0; k < runs.size(); ++k)
+    if (plan.runs[k].sequence == s && plan.runs[k].method == m && plan.runs[k].seed_kind == "render" &&
+        runs[k].finished() && !runs[k].nees.empty())
+      trials.push_back(runs[k].nees);
+  if (trials.size() < 2) return std::nullopt;
+  return monteCarloNees(trials);
+}
+
+namespace {
+
+constexpr const char* kReportFile = "report.md";
+constexpr const char* kResultsFile = "results.csv";
+constexpr const char* kTable31File = "table_3_1.csv";
+constexpr const char* kTable32File = "table_3_2.csv";
 
 // One trial: its number; several: mean ± std (population, as Statistics) over the finished ones,
 // then `unit`, with "(k/N)" when some did not finish or have no such number. `scale` converts units
@@ -191,13 +191,13 @@ bool rotationUndetermined(const std::vector<const RunResult*>& cell) {
 }
 
 bool anyFinished(const std::vector<const RunResult*>& cell) {
-  return std::any_of(cell.begin(), cell.end(), [](const RunResult* r) { return r->status == "ok"; });
+  return std::any_of(cell.begin(), cell.end(), [](const RunResult* r) { return r->finished(); });
 }
 
 // Why a cell has no numbers: the first trial's reason.
 std::string failureText(const std::vector<const RunResult*>& cell) {
   for (const RunResult* r : cell)
-    if (r->status != "ok") return r->error.empty() ? r->status : r->status + ": " + r->error;
+    if (!r->finished()) return r->error.empty() ? r->status : r->status + ": " + r->error;
   return "";
 }
 
@@ -239,6 +239,9 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   md << " Every number of every run is in results.csv.\n\n";
 
   writeResultsCsv(plan, runs, out_dir + "/" + kResultsFile);
+  const auto written = [](const std::ofstream& file, const std::string& path) {
+    if (!file) throw InputError(path, "cannot be written");
+  };
 
   // Table 3.1 and 3.2, measured here, with the thesis's numbers beside them.
   std::ofstream t31(out_dir + "/" + kTable31File), t32(out_dir + "/" + kTable32File);
@@ -246,11 +249,12 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   md << "## Table 3.1: the sequences\n\n| video | frames | thesis frames | motion |\n|---|---|---|---|\n";
   for (const auto& s : seqs) {
     const auto tv = thesisVideo(s.name);
-    const int frames = plan.max_frames >= 0 ? std::min(plan.max_frames, s.frames) : s.frames;
-    md << "| " << s.name << " | " << frames << " | " << (tv ? std::to_string(tv->frames) : "-") << " | "
-       << (tv ? tv->motion : "") << " |\n";
-    t31 << s.name << "," << frames << "," << (tv ? std::to_string(tv->frames) : "") << ",\""
-        << (tv ? tv->motion : "") << "\"\n";
+    // A video that does not state its length: frames -1.
+    const int frames = plan.max_frames >= 0 && s.frames >= 0 ? std::min(plan.max_frames, s.frames) : s.frames;
+    md << "| " << s.name << " | " << (frames >= 0 ? std::to_string(frames) : "-") << " | "
+       << (tv ? std::to_string(tv->frames) : "-") << " | " << (tv ? tv->motion : "") << " |\n";
+    t31 << csvText(s.name) << "," << (frames >= 0 ? std::to_string(frames) : "") << ","
+        << (tv ? std::to_string(tv->frames) : "") << "," << csvText(tv ? tv->motion : "") << "\n";
   }
   // Table 3.2: each method that stands beside a thesis column (the registry says which), then the
   // thesis's number.
@@ -273,7 +277,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   for (size_t s = 0; s < seqs.size(); ++s) {
     const auto tv = thesisVideo(seqs[s].name);
     md << "| " << seqs[s].name << " |";
-    t32 << seqs[s].name;
+    t32 << csvText(seqs[s].name);
     for (size_t m : t32_methods) {
       const auto cell = cellRuns(plan, runs, s, m);
       const std::vector<double> v = cellValues(cell, "cpu_ms_median");
@@ -287,6 +291,10 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
     md << "\n";
     t32 << "\n";
   }
+  t31.close();
+  t32.close();
+  written(t31, out_dir + "/" + kTable31File);
+  written(t32, out_dir + "/" + kTable32File);
 
   md << "\n## Accuracy against ground truth (what the thesis could not measure)\n\n"
      << "ATE after the alignment shown (none: the world frame is the board frame for every method, the pose "
@@ -308,7 +316,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
       std::string posed, first_lost = "-", align;
       int earliest = -1;
       for (const RunResult* r : cell) {
-        if (r->status != "ok") continue;
+        if (!r->finished()) continue;
         const auto& fl = r->summary["first_lost_frame"];
         if (fl.is_number() && (earliest < 0 || fl.get<int>() < earliest)) earliest = fl.get<int>();
         if (align.empty() && r->errors) align = r->errors->align;
@@ -357,7 +365,7 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
         const auto cell = cellRuns(plan, runs, s, m);
         const RunResult* first = nullptr;
         for (const RunResult* r : cell)
-          if (!first && r->status == "ok" && r->errors && r->errors->drift) first = r;
+          if (!first && r->finished() && r->errors && r->errors->drift) first = r;
         if (!first) continue;
         const SegmentDrift& d = *first->errors->drift;
         md << "| " << seqs[s].name << " | " << methods[m].label() << " | " << fmt(d.path_m, 3) << " | "
@@ -461,31 +469,36 @@ std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>
   // Runs that did not finish: a compare interrupted, a run that failed, or runs not yet done.
   std::ostringstream unfinished;
   for (const RunResult& r : runs)
-    if (r.status != "ok") unfinished << "- `" << r.dir << "`: " << r.status << (r.error.empty() ? "" : ": " + r.error) << "\n";
+    if (!r.finished()) unfinished << "- `" << r.dir << "`: " << r.status << (r.error.empty() ? "" : ": " + r.error) << "\n";
   if (!unfinished.str().empty())
     md << "\n## Runs not finished\n\nNot in the statistics above.\n\n" << unfinished.str();
 
   md << "\n## Figures\n\n";
   std::vector<std::string> figures;
   for (size_t s = 0; s < seqs.size(); ++s) {
-    // The trajectories of each method's first finished trial (else its first); the trials' spread
-    // is in the box plots.
-    std::vector<RunResult> first_trial;
-    for (size_t m = 0; m < methods.size(); ++m) {
-      const auto cell = cellRuns(plan, runs, s, m);
-      const auto finished = std::find_if(cell.begin(), cell.end(), [](const RunResult* r) { return r->status == "ok"; });
-      first_trial.push_back(**(finished != cell.end() ? finished : cell.begin()));
+    // One trial's runs, drawn against that trial's ground truth: the first in which the most methods
+    // finished (every one, as a rule); the trials' spread is in the box plots.
+    std::vector<std::vector<const RunResult*>> cells;
+    for (size_t m = 0; m < methods.size(); ++m) cells.push_back(cellRuns(plan, runs, s, m));
+    size_t drawn = 0, most = 0;
+    for (size_t t = 0; t < static_cast<size_t>(plan.trials); ++t) {
+      const size_t finished = static_cast<size_t>(
+          std::count_if(cells.begin(), cells.end(), [t](const auto& cell) { return cell.at(t)->finished(); }));
+      if (finished > most) drawn = t, most = finished;
     }
-    const SequenceInfo& seq = first_trial.front().sequence ? *first_trial.front().sequence : seqs[s];
-    for (const auto& path : writeCompareFigures(seq, first_trial, out_dir + "/figures")) figures.push_back(path);
+    std::vector<RunResult> trial_runs;
+    for (const auto& cell : cells) trial_runs.push_back(*cell.at(drawn));
+    const SequenceInfo& seq = trial_runs.front().sequence ? *trial_runs.front().sequence : seqs[s];
+    for (const auto& path : writeCompareFigures(seq, trial_runs, out_dir + "/figures")) figures.push_back(path);
   }
   for (const auto& path : writeExperimentFigures(plan, seqs, runs, out_dir + "/figures")) figures.push_back(path);
   for (const auto& path : figures)
     md << "![" << fs::path(path).stem().string() << "](" << fs::relative(path, out_dir).string() << ")\n\n";
   const std::string report = out_dir + "/" + kReportFile;
   std::ofstream out(report);
-  if (!out) throw InputError(report, "cannot be written");
   out << md.str();
+  out.close();
+  written(out, report);
   return report;
 }
 

@@ -52,7 +52,7 @@ struct RunResult {
   int trial = 1;
   const SequenceInfo* sequence = nullptr;  // the trial's sequence (its own ground truth and scene)
   std::string status = "ok";  // ok | failed | interrupted | not run
-  std::string error;          // non-empty: no result (why: the run's last message, or what stopped it)
+  std::string error;          // why it did not finish (the run's last message, or what stopped it), if said
   nlohmann::json summary;
   std::vector<FrameRow> frames;
   Trajectory trajectory;
@@ -60,6 +60,7 @@ struct RunResult {
   std::vector<TimedNees> nees;           // nees.csv, when the run scored its covariances
   std::vector<MapPoint> map;             // map.ply, read back when the sequence has a scene
   std::optional<MapEvaluation> map_errors;
+  bool finished() const { return status == "ok"; }  // its numbers count; every other status has none
 };
 
 // A number for a table: fixed with `precision` decimals, "-" when not finite.
@@ -72,6 +73,11 @@ SequenceInfo readSequenceInfo(const std::string& path);
 RunResult loadRun(const Method& method, const std::string& dir, const SequenceInfo& seq);
 
 struct Plan;
+
+// The plan's runs of sequence s and method m (plan.runs[k] is runs[k]), in trial order.
+std::vector<const RunResult*> cellRuns(const Plan& plan, const std::vector<RunResult>& runs, size_t s, size_t m);
+// A results column's numbers over the cell's finished runs (runValue; not finite left out).
+std::vector<double> cellValues(const std::vector<const RunResult*>& cell, const std::string& column);
 
 // Bar-Shalom's test over the trials of sequence s and method m (plan.runs[k] is runs[k]): their
 // finished runs on a rendered trial (seed_kind "render") that scored their covariances (nees.csv);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -16,11 +17,7 @@ namespace {
 // The finished trials' values of a column, for sequence s and method m.
 std::vector<double> trialValues(const Plan& plan, const std::vector<RunResult>& runs, size_t s, size_t m,
                                 const std::string& column) {
-  std::vector<double> v;
-  for (size_t k = 0; k < runs.size(); ++k)
-    if (plan.runs[k].sequence == s && plan.runs[k].method == m)
-      if (const double x = runValue(runs[k], column); std::isfinite(x)) v.push_back(x);
-  return v;
+  return cellValues(cellRuns(plan, runs, s, m), column);
 }
 
 double meanOf(const std::vector<double>& v) { return v.empty() ? NAN : computeStatistics(v).mean; }
@@ -135,9 +132,9 @@ Figure stagesFigure(const Plan& plan, const SequenceInfo& seq, size_t s, const s
   for (size_t m = 0; m < plan.methods.size(); ++m) {
     std::map<std::string, std::vector<double>> trial_ms;
     std::vector<double> rest;
-    for (size_t k = 0; k < runs.size(); ++k) {
-      const RunResult& r = runs[k];
-      if (plan.runs[k].sequence != s || plan.runs[k].method != m || r.status != "ok") continue;
+    for (const RunResult* run : cellRuns(plan, runs, s, m)) {
+      const RunResult& r = *run;
+      if (!r.finished()) continue;
       if (!r.summary.contains("stages") || !r.summary["stages"].is_object()) continue;
       const double frames = r.summary.value("frames", 0);
       if (frames <= 0) continue;
@@ -167,7 +164,7 @@ Figure stagesFigure(const Plan& plan, const SequenceInfo& seq, size_t s, const s
   for (size_t k = 0; k <= stages.size(); ++k) {
     PlotSeries bar;
     bar.label = k < stages.size() ? stages[k] : "not in a stage";
-    bar.color = k < stages.size() ? palette[k % 9] : "#dddddd";
+    bar.color = k < stages.size() ? palette[k % std::size(palette)] : "#dddddd";
     for (size_t m = 0; m < plan.methods.size(); ++m) {
       bar.x.push_back(static_cast<double>(m));
       const auto it = k < stages.size() ? per_method[m].find(stages[k]) : per_method[m].end();

@@ -36,14 +36,15 @@ double overGaps(const RunResult& r, const char* key, bool sum) {
   return out;
 }
 
+
+}  // namespace
+
 std::string csvText(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string out = "\"";
   for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
 }
-
-}  // namespace
 
 const std::vector<RunColumn>& runColumns() {
   static const std::vector<RunColumn> columns{
@@ -84,7 +85,7 @@ const std::vector<RunColumn>& runColumns() {
 }
 
 double runValue(const RunResult& r, const std::string& column) {
-  if (r.status != "ok") return NAN;
+  if (!r.finished()) return NAN;
   for (const RunColumn& c : runColumns())
     if (column == c.name) return c.value(r);
   throw std::logic_error("no results column " + column);
@@ -115,8 +116,8 @@ void writeResultsCsv(const Plan& plan, const std::vector<RunResult>& runs, const
     const nlohmann::json* first_lost = r.summary.is_object() && r.summary.contains("first_lost_frame")
                                            ? &r.summary["first_lost_frame"]
                                            : nullptr;
-    out << "," << r.status << "," << (r.status == "ok" && first_lost && first_lost->is_number() ? first_lost->dump() : "")
-        << "," << (r.status == "ok" && r.errors ? r.errors->align : "");
+    out << "," << r.status << "," << (r.finished() && first_lost && first_lost->is_number() ? first_lost->dump() : "")
+        << "," << (r.finished() && r.errors ? r.errors->align : "");
     for (const RunColumn& c : runColumns()) out << "," << exactNumber(runValue(r, c.name));
     out << "," << csvText(p.dir) << "," << csvText(r.error) << "\n";
   }

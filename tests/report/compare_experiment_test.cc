@@ -607,6 +607,20 @@ TEST(CompareExperiment, InterruptedCompareMarksItsRunsAndFails) {
   EXPECT_EQ(report.find("## Map accuracy"), std::string::npos) << report;
 }
 
+// A run whose program cannot be started fails with that said in its log, which the report quotes
+// (its log was empty: "nothing in its log").
+TEST(CompareExperiment, AProgramThatCannotStartIsSaid) {
+  TempDir tmp;
+  CompareOptions options = shortCompare(renderTv1(tmp, 4), "cslam", tmp.file("c"));
+  options.slamcmp = tmp.file("no-such-slamcmp");
+  runCompare(options);
+  const auto rows = readResults(tmp.file("c/results.csv"));
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("status"), "failed");
+  EXPECT_NE(rows[0].at("error").find("cannot execute " + tmp.file("no-such-slamcmp")), std::string::npos)
+      << rows[0].at("error");
+}
+
 // A board-free run on tv1's first frames moves nearly along a line: its ATE rotation error after
 // Sim(3) is not determined. results.csv says so and the report marks the cell; the board-started
 // run, scored unaligned, has no mark.
