@@ -63,6 +63,21 @@ std::string backendsHelp() {
   return out;
 }
 
+OptionSetting parseOptionSetting(const std::string& text, const std::string& form) {
+  const auto eq = text.find('=');
+  const auto dot = text.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+    throw InputError("--set " + text, "must be " + form);
+  return {&findBackend(text.substr(0, dot), "--set " + text), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1)};
+}
+
+std::vector<const BackendRegistration*> configBackends(const YamlFile& config, const std::string& path) {
+  std::vector<const BackendRegistration*> named;
+  if (config.root().isMap())
+    for (const std::string& section : config.root().keys()) named.push_back(&findBackend(section, path + ": " + section));
+  return named;
+}
+
 std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& backend, const std::string& config_path,
                                                    const std::vector<std::string>& sets, std::optional<int> seed,
                                                    cv::Size image_size) {
@@ -70,31 +85,23 @@ std::unique_ptr<BackendOptions> loadBackendOptions(const BackendRegistration& ba
   std::string where = backend.name;
   if (!config_path.empty()) {
     const YamlFile config(config_path);
-    if (config.root().isMap())  // a file of only the %YAML header holds no section: the defaults
-      for (const std::string& section : config.root().keys()) {
-        // A misspelt section is not ignored.
-        const BackendRegistration& other = findBackend(section, config_path + ": " + section);
-        // Nor a typo in another back-end's section: the same file runs that back-end (compare) later.
-        if (other.name == backend.name) continue;
-        const std::unique_ptr<BackendOptions> other_options = other.default_options();
-        other_options->read(config.node(section), config_path + ": " + section);
-        other_options->check(config_path + ": " + section);
-      }
+    for (const BackendRegistration* other : configBackends(config, config_path)) {  // a misspelt section refused
+      // Nor a typo in another back-end's section: the same file runs that back-end (compare) later.
+      if (other->name == backend.name) continue;
+      const std::unique_ptr<BackendOptions> other_options = other->default_options();
+      other_options->read(config.node(other->name), config_path + ": " + other->name);
+      other_options->check(config_path + ": " + other->name);
+    }
     where = config_path + ": " + backend.name;
     options->read(config.node(backend.name), where);
   }
   if (seed && options->setSeeds(*seed) == 0)
     throw InputError("--seed", backend.name + " has no random seed (no option called seed)");
   for (const std::string& set : sets) {
-    const auto eq = set.find('=');
-    const auto dot = set.find('.');
-    if (eq == std::string::npos || dot == std::string::npos || dot > eq)
-      throw InputError("--set " + set, "must be SECTION.KEY=VALUE, e.g. cslam.features.max_features=200");
-    const std::string section = set.substr(0, dot);
-    findBackend(section, "--set " + set);
-    if (section != backend.name)
-      throw InputError("--set " + set, "this run's back-end is " + backend.name + ", not " + section);
-    options->set(set.substr(dot + 1, eq - dot - 1), set.substr(eq + 1), "--set " + backend.name);
+    const OptionSetting setting = parseOptionSetting(set, "SECTION.KEY=VALUE, e.g. cslam.features.max_features=200");
+    if (setting.backend->name != backend.name)
+      throw InputError("--set " + set, "this run's back-end is " + backend.name + ", not " + setting.backend->name);
+    options->set(setting.key, setting.value, "--set " + backend.name);
   }
   options->check(where);
   if (!image_size.empty()) options->checkAgainstImage(image_size, where);

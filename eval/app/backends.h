@@ -25,6 +25,21 @@ const BackendMode& findMode(const BackendRegistration& backend, const std::strin
 // Throws InputError(where, ...) unless the back-end takes --init (a start other than the board).
 void requireTakesInit(const BackendRegistration& backend, const std::string& where = "--init");
 
+// A --set's "SECTION.KEY=VALUE": the back-end SECTION names, the option's KEY (a path: a.b.c) and
+// VALUE as written; InputError("--set " + text, ...) unless it has that form (`form`: how the
+// message spells it, with an example) and SECTION is a back-end.
+struct OptionSetting {
+  const BackendRegistration* backend;
+  std::string key, value;
+};
+OptionSetting parseOptionSetting(const std::string& text, const std::string& form);
+
+// The back-ends an option file (`path`, read as `config`) has sections for, in its order; a section
+// naming no back-end is an InputError naming the file and the section. A file of only the %YAML
+// header has none.
+class YamlFile;
+std::vector<const BackendRegistration*> configBackends(const YamlFile& config, const std::string& path);
+
 // Every back-end with its modes and its options with their defaults, as commented YAML (run --help).
 std::string backendsHelp();
 

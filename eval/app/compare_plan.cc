@@ -56,9 +56,7 @@ std::vector<OptionFile> parseOptionFiles(const std::vector<std::string>& given, 
       const YamlFile yaml(text);
       file.path = fs::canonical(text).string();  // the file YamlFile opened, through any link
       file.name = fs::path(text).stem().string();
-      if (yaml.root().isMap())
-        for (const std::string& section : yaml.root().keys())
-          file.backends.push_back(findBackend(section, text + ": " + section).name);
+      for (const BackendRegistration* backend : configBackends(yaml, text)) file.backends.push_back(backend->name);
       if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) {
             return std::find(file.backends.begin(), file.backends.end(), m.backend) != file.backends.end();
           }))
@@ -119,16 +117,14 @@ void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>
 // on top of each of its option files.
 Sweep parseSweep(const std::string& text, const std::vector<Method>& methods, const std::vector<OptionFile>& files) {
   const std::string where = "--set " + text;
-  const auto eq = text.find('=');
-  const auto dot = text.find('.');
-  if (eq == std::string::npos || dot == std::string::npos || dot > eq)
-    throw InputError(where, "must be SECTION.KEY=V1,V2,..., e.g. cslam.features.max_features=100,150,200");
-  Sweep sweep{text.substr(0, eq), text.substr(0, dot), {}};
-  const BackendRegistration& backend = findBackend(sweep.backend, where);
+  const OptionSetting setting =
+      parseOptionSetting(text, "SECTION.KEY=V1,V2,..., e.g. cslam.features.max_features=100,150,200");
+  Sweep sweep{setting.backend->name + "." + setting.key, setting.backend->name, {}};
+  const BackendRegistration& backend = *setting.backend;
   if (std::none_of(methods.begin(), methods.end(), [&](const Method& m) { return m.backend == backend.name; }))
     throw InputError(where, backend.name + " is not among --backends");
   const std::vector<OptionFile> own_files = optionFilesOf(backend.name, files);
-  std::stringstream values(text.substr(eq + 1));
+  std::stringstream values(setting.value);
   std::vector<nlohmann::json> loaded;  // the options each value gives: 200 and 0200 are one setting
   for (std::string v; std::getline(values, v, ',');) {
     if (v.empty()) throw InputError(where, "has an empty value");
