@@ -1,8 +1,9 @@
 #pragma once
 // Writes a run's outputs (SPEC section 4): trajectory.txt and frames.csv line by line as frames
 // are tracked (an interrupted run leaves valid files for the frames done), summary.json at the
-// end (map.ply: core/map_ply.h). Rows of Initialising frames wait until a frame that is not, whose
-// FrameResult::late_poses may pose them, so both files stay in frame order.
+// end (map.ply: core/map_ply.h). Rows of Initialising frames wait until a frame that is not; any
+// frame's FrameResult::late_poses (an Initialising one's too) may pose them, so both files stay in
+// frame order.
 #include <fstream>
 #include <map>
 #include <optional>

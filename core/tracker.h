@@ -26,8 +26,9 @@ const char* toString(TrackStatus status);  // "tracked", "initialising", "lost"
 // else "initialising" or "lost".
 std::string statusLabel(TrackStatus status, const std::string& source);
 
-// A pose found later for an earlier frame the tracker returned as Initialising (cslam: frames that
-// showed the board while it gathered self-calibration views, posed once the camera is known).
+// A pose found later for an earlier frame the tracker returned as Initialising (cslam and hybrid:
+// frames that showed the board while they gathered self-calibration views, posed once the camera
+// is known: tracking/calibration_views.h).
 struct LatePose {
   int frame_index = 0;
   std::string source;  // as FrameResult::source

@@ -557,6 +557,10 @@ FrameResult CslamTracker::track(const Frame& frame) {
   std::optional<BoardView> board;
   if (use_board) {
     const StageTimer timer(&result.stages, "board");
+    // Until the board has set the world frame every frame is searched: the interval after a miss
+    // skipped a frame showing the whole board right after a self-calibration that ended on a frame
+    // without it.
+    if (history_.empty()) board_.searchNextFrame();
     if ((board = boardPoseInFrame(frame.grey, T_world_predicted, &result))) {
       T_world_camera = board->T_world_camera;
       result.status = TrackStatus::Tracked;

@@ -52,7 +52,7 @@ nlohmann::json HybridTracker::options() const {
 }
 
 void HybridTracker::finish() {
-  if (ever_started_) return;
+  if (ever_started_ || posed_late_) return;  // frames posed, by the filter or from their corners
   if (!camera_)
     throw InputError("", calibration_views_->whyNotCalibrated());
   throw InputError("", "hybrid never started: no frame showed the " + std::to_string(target_.cols) + "x" +
@@ -69,6 +69,7 @@ bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
     // The frames that showed the board, posed from it; this one starts the filter. A symmetric
     // board's origin carries on from them (start() keeps it nearest the last pose).
     result->late_poses = calibration_views_->latePoses(*camera_, frame.index);
+    posed_late_ = !result->late_poses.empty();
     if (!result->late_poses.empty()) last_pose_ = result->late_poses.back().T_world_camera;
     calibration_views_.reset();
     startFilter(*camera_);

@@ -93,7 +93,8 @@ class HybridTracker : public Tracker {
   FrameResult track(const Frame& frame) override;
   std::vector<MapPoint> mapPoints() const override;
   nlohmann::json options() const override;
-  // Throws InputError when the filter never started (no board view, or too few to self-calibrate).
+  // Throws InputError when no frame was posed: the filter never started and no frame was posed from
+  // its self-calibration views (no board view, or too few to self-calibrate).
   void finish() override;
 
  private:
@@ -120,6 +121,7 @@ class HybridTracker : public Tracker {
 
   std::optional<CameraModel> camera_;
   std::optional<CalibrationViews> calibration_views_;  // while self-calibrating
+  bool posed_late_ = false;  // frames that gave calibration views were posed from their corners
   std::optional<double> calibration_rms_px_;
 
   std::unique_ptr<EkfSlam> slam_;

@@ -16,8 +16,9 @@ std::optional<CalibrationResult> CalibrationViews::add(int frame_index, const st
   ++frames_;
   if (corners) {
     std::vector<cv::Point2f> uv = *corners;
-    if (target_.symmetric() && !gathered_.empty()) chooseSymmetricOrder(target_, uv, gathered_.back().uv);
+    if (target_.symmetric() && !last_uv_.empty()) chooseSymmetricOrder(target_, uv, last_uv_);
     calibrator_.addView(uv);
+    last_uv_ = uv;
     gathered_.push_back({frame_index, std::move(uv)});
     if (static_cast<int>(gathered_.size()) > options_.max_late_poses) gathered_.pop_front();
   }

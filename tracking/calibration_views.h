@@ -49,6 +49,7 @@ class CalibrationViews {
   SelfCalibrator calibrator_;
   int frames_ = 0;
   std::deque<Gathered> gathered_;
+  std::vector<cv::Point2f> last_uv_;  // the last view's corners: a symmetric board's origin follows them
 };
 
 }  // namespace slamcmp

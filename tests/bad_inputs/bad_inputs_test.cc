@@ -913,6 +913,19 @@ std::vector<BadCase> cases() {
                                   {"no camera file, and self-calibration failed: 12 distinct board views",
                                    "parallel views do not determine the focal length"}};
               }},
+      // No camera file and a run shorter than calibration.max_frames with fewer views than max_views:
+      // never calibrated, and said so (it said "only 12 distinct board views (need 8)").
+      BadCase{"SelfCalibrationNotReachedBeforeTheEnd",
+              [](const TempDir& tmp) {
+                const std::string seq = tmp.file("seq");
+                EXPECT_EQ(test::runSlamcmp("synth --preset board_partial --frames 80 --supersample 1 --out " + seq)
+                              .exit_code,
+                          0);
+                std::filesystem::remove(seq + "/camera.yaml");
+                return Invocation{"run --backend cslam --sequence " + seq + " --out " + tmp.file("out"),
+                                  {"the run ended before self-calibrating: 12 distinct board views",
+                                   "lower calibration.max_frames"}};
+              }},
       // The sequence's list given for the sequence: FFmpeg opened it as a 640x400 video (its tty
       // demuxer) and the camera file was blamed for the size.
       BadCase{"ListFileForTheSequence",

@@ -92,9 +92,10 @@ class RollingSymmetricBoard : public ::testing::Test {
   };
 
   // Runs slamcmp and compares every posed frame but the blank ones with the ground truth.
-  static Agreement run(const std::string& backend, const std::string& config_text = "") {
+  static Agreement run(const std::string& backend, const std::string& config_text = "",
+                       const std::string& sequence = sequence_) {
     const std::string out = dir_->file(backend + std::to_string(++runs_));
-    std::string args = "run --backend " + backend + " --sequence " + sequence_ + " --out " + out;
+    std::string args = "run --backend " + backend + " --sequence " + sequence + " --out " + out;
     if (!config_text.empty()) {
       test::writeText(out + ".yaml", config_text);
       args += " --config " + out + ".yaml";
@@ -170,6 +171,24 @@ TEST_F(RollingSymmetricBoard, MonoslamRestartNeverFlips) {
   EXPECT_LT(a.max_rel_rot_deg, 2.0);
 }
 
+// hybrid without the camera file: it self-calibrates from the views of the first 24 frames (the
+// 24th at 92 degrees of roll, past where the convention turns the origin), each view's origin kept
+// by continuity with the last, and the filter starts nearest the last of their late poses.
+TEST_F(RollingSymmetricBoard, HybridSelfCalibratedNeverFlips) {
+  const std::string no_camera = dir_->file("rolling_8x6_no_camera");
+  std::filesystem::create_directories(no_camera);
+  for (const char* entry : {"rgb", "rgb.txt", "target.yaml", "groundtruth.txt"})
+    std::filesystem::create_symlink(sequence_ + "/" + entry, no_camera + "/" + entry);
+  // A roll about the line of sight keeps the board's normal within 7 degrees: allowed here.
+  const Agreement a = run(
+      "hybrid", "%YAML:1.0\nhybrid:\n  calibration:\n    min_view_spread_deg: 0\n    max_frames: 24\n", no_camera);
+  std::printf("hybrid self-calibrated: %d posed, turned %d, %.4f m, %.3f deg\n", a.posed, a.turned, a.max_abs_trans,
+              a.max_rel_rot_deg);
+  EXPECT_GE(a.posed, kFrames - (kBlankTo - kBlankFrom + 1) - 1);
+  EXPECT_FALSE(a.turned);
+  EXPECT_LT(a.max_abs_trans, 0.01);
+}
+
 // The phone video with no camera file: self-calibration gathers 8 distinct board views, which this
 // slow clip takes until frame 176; every frame from then on is posed, and the earlier frames that
 // showed the whole board are posed late from their corners (measured: 227 of 241; the other 14
@@ -199,6 +218,16 @@ TEST(PhoneVideo, CslamSelfCalibratesAndPosesTheFramesShowingTheBoard) {
   for (int frame : {102, 103, 174, 175})  // the whole board, each right after a frame without it
     EXPECT_EQ(rows[1 + frame].rfind(std::to_string(frame) + ",", 0), 0u) << rows[1 + frame];
   for (int frame : {102, 103, 174, 175}) EXPECT_NE(rows[1 + frame].find(",board,"), std::string::npos) << rows[1 + frame];
+  // Calibrated on frame 101, which shows no board: the next frame, which shows all of it, is
+  // searched too (the interval after a miss had skipped it: "no board yet").
+  const test::CommandResult early = test::runSlamcmp(
+      "run --backend cslam --sequence " + shared + "/video_chessboard/chessboard.avi --max-frames 104 --out " +
+      dir.file("early") + " --set cslam.calibration.min_views=3 --set cslam.calibration.max_frames=102");
+  ASSERT_EQ(early.exit_code, 0) << early.err;
+  const std::vector<std::string> early_rows = test::readLines(dir.file("early/frames.csv"));
+  ASSERT_EQ(early_rows.size(), 105u);
+  EXPECT_NE(early_rows[1 + 101].find(",lost,"), std::string::npos) << early_rows[1 + 101];
+  EXPECT_NE(early_rows[1 + 102].find(",board,"), std::string::npos) << early_rows[1 + 102];
   // The late poses and the live ones keep one origin: no jump between neighbouring frames (a
   // handheld phone at 24 fps; measured at most 2.2 degrees).
   const Trajectory trajectory = readTrajectory(dir.file("run/trajectory.txt"));
