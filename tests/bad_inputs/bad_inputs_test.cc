@@ -111,6 +111,15 @@ struct BadCase {
 std::ostream& operator<<(std::ostream& os, const BadCase& c) { return os << c.name; }
 
 // slamcmp run on the sequence in tmp/seq, after `spoil` changed it.
+// board_partial's first 80 frames (its board slides square on in front of the camera) without
+// camera.yaml: a run self-calibrates from them.
+std::string boardPartialWithoutCamera(const TempDir& tmp) {
+  const std::string seq = tmp.file("seq");
+  EXPECT_EQ(test::runSlamcmp("synth --preset board_partial --frames 80 --supersample 1 --out " + seq).exit_code, 0);
+  std::filesystem::remove(seq + "/camera.yaml");
+  return seq;
+}
+
 BadCase runCase(const std::string& name, std::function<void(const std::string& seq)> spoil,
                 std::vector<std::string> mention, const std::string& extra_args = "") {
   return {name, [=](const TempDir& tmp) {
@@ -903,11 +912,7 @@ std::vector<BadCase> cases() {
       // from such views at fx 950 for 525, and said "too few views" when refused).
       BadCase{"SelfCalibrationFromParallelViews",
               [](const TempDir& tmp) {
-                const std::string seq = tmp.file("seq");
-                EXPECT_EQ(test::runSlamcmp("synth --preset board_partial --frames 80 --supersample 1 --out " + seq)
-                              .exit_code,
-                          0);
-                std::filesystem::remove(seq + "/camera.yaml");
+                const std::string seq = boardPartialWithoutCamera(tmp);
                 return Invocation{"run --backend cslam --sequence " + seq + " --out " + tmp.file("out") +
                                       " --set cslam.calibration.max_frames=70",
                                   {"no camera file, and self-calibration failed: 12 distinct board views",
@@ -917,11 +922,7 @@ std::vector<BadCase> cases() {
       // never calibrated, and said so (it said "only 12 distinct board views (need 8)").
       BadCase{"SelfCalibrationNotReachedBeforeTheEnd",
               [](const TempDir& tmp) {
-                const std::string seq = tmp.file("seq");
-                EXPECT_EQ(test::runSlamcmp("synth --preset board_partial --frames 80 --supersample 1 --out " + seq)
-                              .exit_code,
-                          0);
-                std::filesystem::remove(seq + "/camera.yaml");
+                const std::string seq = boardPartialWithoutCamera(tmp);
                 return Invocation{"run --backend cslam --sequence " + seq + " --out " + tmp.file("out"),
                                   {"the run ended before self-calibrating: 12 distinct board views",
                                    "lower calibration.max_frames"}};
