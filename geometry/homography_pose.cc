@@ -68,4 +68,12 @@ BoardPose boardPose(const std::vector<Vec3>& p_board, const std::vector<Vec2>& x
   return pose;
 }
 
+BoardPose wholeBoardPose(const CameraModel& camera, const ChessboardTarget& target,
+                         const std::vector<cv::Point2f>& uv_distorted, const BoardPoseOptions& options) {
+  std::vector<Vec2> xy;
+  xy.reserve(uv_distorted.size());
+  for (const cv::Point2f& p : uv_distorted) xy.push_back(camera.undistortPixel(Vec2(p.x, p.y)));
+  return boardPose(target.cornersWorld(), xy, 0.5 * (camera.fx + camera.fy), options);
+}
+
 }  // namespace slamcmp

@@ -6,7 +6,11 @@
 // T_camera_board, p_camera = R p_board + t. A FrameResult's T_world_camera is its inverse.
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include "core/camera.h"
 #include "core/geometry.h"
+#include "core/target.h"
 #include "geometry/pose_refinement.h"
 
 namespace slamcmp {
@@ -44,5 +48,10 @@ struct BoardPose {
 // optional refinement. focal_px converts errors to pixels.
 BoardPose boardPose(const std::vector<Vec3>& p_board, const std::vector<Vec2>& xy_normalised,
                     double focal_px, const BoardPoseOptions& options);
+
+// boardPose of a whole board's corners as detected (every corner, SPEC section 2 order, distorted
+// pixels), undistorted with `camera` and weighed at its mean focal length.
+BoardPose wholeBoardPose(const CameraModel& camera, const ChessboardTarget& target,
+                         const std::vector<cv::Point2f>& uv_distorted, const BoardPoseOptions& options);
 
 }  // namespace slamcmp

@@ -99,10 +99,7 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
                                      BoardCornerMeasurement* board) {
   // The board's own pose (thesis eqs. 3.1 to 3.17) sets the mean; this frame's corners then
   // update it, so the start's covariance is the board's.
-  std::vector<Vec2> xy;
-  for (const cv::Point2f& p : uv) xy.push_back(camera_->undistortPixel(Vec2(p.x, p.y)));
-  const BoardPose board_pose =
-      boardPose(target_.cornersWorld(), xy, 0.5 * (camera_->fx + camera_->fy), BoardPoseOptions{});
+  const BoardPose board_pose = wholeBoardPose(*camera_, target_, uv, BoardPoseOptions{});
   const HybridStartOptions& s = options_.start;
   Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
   P0.diagonal() << Vec3::Constant(s.position_sigma * s.position_sigma),

@@ -115,10 +115,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   if (use_given_pose) {
     T_world_camera = *T_world_camera_init_;
   } else if (board_seen) {
-    std::vector<Vec2> xy_normalised;
-    for (const Vec2& uv : start_corners_) xy_normalised.push_back(camera_.undistortPixel(uv));
-    T_world_camera = boardPose(target_.cornersWorld(), xy_normalised, 0.5 * (camera_.fx + camera_.fy), {})
-                         .T_camera_board.inverse();
+    T_world_camera = wholeBoardPose(camera_, target_, corners, {}).T_camera_board.inverse();
   } else {
     restart_view_.reset();
     *reason = "no board seen";

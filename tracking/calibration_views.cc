@@ -28,13 +28,10 @@ std::optional<CalibrationResult> CalibrationViews::add(int frame_index, const st
 }
 
 std::vector<LatePose> CalibrationViews::latePoses(const CameraModel& camera, int frame_index) {
-  const double focal_px = 0.5 * (camera.fx + camera.fy);
   std::vector<LatePose> late;
   for (const Gathered& g : gathered_) {
     if (g.frame_index >= frame_index) continue;
-    std::vector<Vec2> xy;
-    for (const cv::Point2f& c : g.uv) xy.push_back(camera.undistortPixel(Vec2(c.x, c.y)));
-    const BoardPose pose = boardPose(target_.cornersWorld(), xy, focal_px, board_pose_);
+    const BoardPose pose = wholeBoardPose(camera, target_, g.uv, board_pose_);
     late.push_back({g.frame_index, "board", pose.T_camera_board.inverse(), static_cast<int>(g.uv.size())});
   }
   gathered_.clear();

@@ -82,6 +82,9 @@ std::vector<OptionFile> optionFilesOf(const std::string& backend, const std::vec
   return own;
 }
 
+// The folders a compare makes in its own: the runs, their logs, the report's figures.
+constexpr const char* kExperimentFolders[] = {"runs", "logs", "figures"};
+
 // Where trial k's render of a given sequence goes.
 fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "sequences" / ("seed" + std::to_string(trial)); }
 
@@ -92,7 +95,7 @@ fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "seque
 // into sequences/: its second run into the same folder found them gone).
 void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>& given) {
   std::error_code ec;
-  for (const char* sub : {"runs", "logs", "figures"}) fs::remove_all(dir / sub, ec);
+  for (const char* sub : kExperimentFolders) fs::remove_all(dir / sub, ec);
   for (const std::string& file : compareReportFiles()) fs::remove(dir / file, ec);
   std::vector<fs::path> renders;
   for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {
@@ -261,7 +264,7 @@ Plan makePlan(const CompareOptions& options) {
 
   std::error_code ec;
   if (fs::exists(dir / "plan.json", ec)) removeEarlierExperiment(dir, plan.sequences);
-  for (const char* sub : {"runs", "logs", "figures"}) {
+  for (const char* sub : kExperimentFolders) {
     fs::create_directories(dir / sub, ec);
     if (ec) throw InputError(options.out_dir, "output folder cannot be created: " + ec.message());
   }
