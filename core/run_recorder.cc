@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/frames_csv.h"
+#include "core/run_files.h"
 #include "core/statistics.h"
 
 namespace slamcmp {
@@ -24,7 +25,7 @@ RunRecorder::RunRecorder(const std::string& out_dir, const std::string& backend)
   trajectory_file_.open(traj);
   if (!trajectory_file_) throw InputError(traj, "cannot be written");
   trajectory_file_ << "# timestamp tx ty tz qx qy qz qw (T_world_camera, " << backend << ")\n";
-  const std::string frames = out_dir + "/frames.csv";
+  const std::string frames = out_dir + "/" + run_files::kFrames;
   frames_file_.open(frames);
   if (!frames_file_) throw InputError(frames, "cannot be written");
   frames_file_ << framesCsvHeader() << '\n';
@@ -42,10 +43,13 @@ void RunRecorder::write(Row row) {
     ++tracked_;
     trajectory_file_ << formatTumLine({row.timestamp, *row.T_world_camera}) << '\n';
     trajectory_file_.flush();
+  } else if (row.status == TrackStatus::Initialising) {  // not started yet: waiting, not lost
+    ++initialising_;
+    ++initialising_reasons_[row.reason.empty() ? std::string(toString(row.status)) : reasonCategory(row.reason)];
   } else {
     ++lost_;
     if (!first_lost_frame_) first_lost_frame_ = row.index;
-    ++lost_reasons_[row.reason.empty() ? std::string(toString(row.status)) : reasonCategory(row.reason)];
+    ++lost_reasons_[row.reason.empty() ? std::string(toString(TrackStatus::Lost)) : reasonCategory(row.reason)];
   }
   const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
                                                                                           : TrackStatus::Lost;
@@ -107,6 +111,7 @@ nlohmann::json RunRecorder::summary() const {
   j["frames"] = frames_;
   j["tracked"] = tracked();
   j["lost"] = lost_;
+  j["initialising"] = initialising_;
   j["first_lost_frame"] = first_lost_frame_ ? nlohmann::json(*first_lost_frame_) : nlohmann::json(nullptr);
   j["ms_per_frame"] = timing(ms_);
   j["cpu_ms_per_frame"] = timing(cpu_ms_);
@@ -118,6 +123,7 @@ nlohmann::json RunRecorder::summary() const {
   }
   j["stages"] = stages;
   j["lost_reasons"] = lost_reasons_;
+  j["initialising_reasons"] = initialising_reasons_;
   return j;
 }
 
@@ -125,7 +131,7 @@ nlohmann::json RunRecorder::writeSummary(const nlohmann::json& extra) {
   flush();
   nlohmann::json j = summary();
   j.update(extra);
-  const std::string path = out_dir_ + "/summary.json";
+  const std::string path = out_dir_ + "/" + run_files::kSummary;
   std::ofstream out(path);
   if (!out) throw InputError(path, "cannot be written");
   out << j.dump(2) << '\n';

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/run_files.h"
 #include "core/tracker.h"
 #include "core/trajectory.h"
 
@@ -40,7 +41,7 @@ class RunRecorder {
 
   // trajectory.txt, complete up to the last recorded frame (the poses are not kept in memory, so
   // a long run's memory stays flat).
-  std::string trajectoryPath() const { return out_dir_ + "/trajectory.txt"; }
+  std::string trajectoryPath() const { return out_dir_ + "/" + run_files::kTrajectory; }
   int frames() const { return frames_; }  // recorded, written or waiting
   int tracked() const { return tracked_; }  // posed among the rows written
 
@@ -66,9 +67,13 @@ class RunRecorder {
   std::map<std::string, std::vector<double>> stage_ms_;  // CPU ms of each call of each stage
   int frames_ = 0;
   int tracked_ = 0;
+  // Frames without a pose: lost (the back-end had started) or initialising (not yet), each with
+  // its reasons by category (numbers as '#').
   int lost_ = 0;
+  int initialising_ = 0;
   std::optional<int> first_lost_frame_;
   std::map<std::string, int> lost_reasons_;
+  std::map<std::string, int> initialising_reasons_;
 };
 
 }  // namespace slamcmp

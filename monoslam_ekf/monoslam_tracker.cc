@@ -95,6 +95,7 @@ void MonoslamTracker::setFirstMotionPrior(double dt) {
 }
 
 bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
+  start_pose_from_board_ = false;
   if (init_ == InitSource::None) return startWithoutMap(frame, reason);
   std::vector<cv::Point2f> corners;
   const bool board_seen = board_detector_->detect(frame.grey, &corners);
@@ -116,6 +117,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
     T_world_camera = *T_world_camera_init_;
   } else if (board_seen) {
     T_world_camera = wholeBoardPose(camera_, target_, corners, {}).T_camera_board.inverse();
+    start_pose_from_board_ = true;
   } else {
     restart_view_.reset();
     *reason = "no board seen";
@@ -343,7 +345,7 @@ FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, Fr
   trusted_id_limit_ = slam_.nextFeatureId();
   slam_.rememberPosedMap();
   result.status = TrackStatus::Tracked;
-  result.source = "ekf";
+  result.source = started_here && start_pose_from_board_ ? "board" : "ekf";
   result.T_world_camera = last_pose_ = slam_.T_world_camera();
   result.pose_covariance = slam_.poseCovariance();
   if (two_view_) rememberOrientation(*result.pose_covariance);

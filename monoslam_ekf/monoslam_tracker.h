@@ -61,6 +61,7 @@ class MonoslamTracker : public Tracker {
   bool running_ = false;
   bool diverged_ = false;  // the filter stopped on its health check (no map worth writing)
   bool ever_started_ = false;
+  bool start_pose_from_board_ = false;  // the last start's pose is the board's (frames.csv's source)
   std::string lost_reason_;
   std::vector<Vec2> start_corners_;  // the board corners detected by the last start, for the overlay
   std::optional<SE3> last_pose_;     // the last pose given out: a restart keeps a symmetric board's origin

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/run_files.h"
 #include "core/text_file.h"
 #include "eval/app/backends.h"
 #include "eval/app/compare_plan.h"
@@ -90,14 +91,14 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
   const std::string run_dir = (fs::path(dir) / planned.dir).string();
   RunResult r;
   std::error_code ec;
-  if (fs::exists(fs::path(run_dir) / "summary.json", ec)) {
+  if (fs::exists(fs::path(run_dir) / run_files::kSummary, ec)) {
     try {
       r = loadRun(method, run_dir, seq);
       if (r.summary.value("interrupted", false)) {
         r.status = "interrupted";
         r.error = "stopped after " + std::to_string(r.summary.value("frames", 0)) + " frames";
       }
-    } catch (const std::exception& e) {  // a run whose files cannot be read or scored
+    } catch (const InputError& e) {  // a run whose files cannot be read or scored; a fault of ours still ends compare
       r = RunResult();
       r.status = "failed";
       r.error = e.what();

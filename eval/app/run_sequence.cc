@@ -18,6 +18,7 @@
 #include "core/interrupt.h"
 #include "core/map_ply.h"
 #include "core/progress.h"
+#include "core/run_files.h"
 #include "core/run_recorder.h"
 #include "core/sequence.h"
 #include "core/trajectory.h"
@@ -139,7 +140,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   // A run before into this folder: its outputs are not this run's, and one left beside this run's
   // (a summary.json beside a trajectory.txt cut short by a failure) would pass for a whole run.
   // Only these files, by name: the folder may hold anything else.
-  for (const char* stale : {"summary.json", "map.ply", "nees.csv"}) {
+  for (const char* stale : {run_files::kSummary, run_files::kMap, run_files::kNees}) {
     std::error_code ignored;
     std::filesystem::remove(std::filesystem::path(out_dir) / stale, ignored);
   }
@@ -262,18 +263,18 @@ nlohmann::json runSequence(const RunRequest& request) {
       }
       if (const auto nees = poseNees(*seq.groundtruth, covariant_poses, EvalOptions{}.max_diff, T_gt_estimate, scale_free)) {
         extra["nees"] = neesToJson(*nees);
-        writeNeesCsv(out_dir + "/nees.csv", *nees);  // for compare's test over trials
+        writeNeesCsv(out_dir + "/" + run_files::kNees, *nees);  // for compare's test over trials
       }
     } catch (const InputError& e) {  // the run is fine; only its score is impossible, which is said
       extra["metrics_error"] = e.what();
       std::cerr << seq.groundtruth_path << ": warning: the run cannot be scored against it: " << e.what() << "\n";
     }
   }
-  writeMapPly(out_dir + "/map.ply", tracker->mapPoints());
+  writeMapPly(out_dir + "/" + run_files::kMap, tracker->mapPoints());
   // The map as written scored, as the trajectory is (compare --collect scores the same file and
   // gets the same figures); a scale-free map through its trajectory's Sim(3), or not at all.
   if (scene && (!scale_free || T_gt_scale_free)) {
-    const std::vector<MapPoint> map = readRunMap(out_dir + "/map.ply", T_gt_scale_free ? &*T_gt_scale_free : nullptr);
+    const std::vector<MapPoint> map = readRunMap(out_dir + "/" + run_files::kMap, T_gt_scale_free ? &*T_gt_scale_free : nullptr);
     extra["map"] = mapStatsToJson(evaluateMap(map, *scene).stats);
   }
   return recorder.writeSummary(extra);

@@ -59,12 +59,19 @@ LegendEntry legendEntry(OverlayFeatureState state) {
   return kLegendInlier;
 }
 
-// The legend entries for what `o` holds (one bit each).
-unsigned legendEntries(const FrameOverlay& o) {
+// The board axes are the frame's pose: a frame without one (lost, initialising) has none drawn, or
+// they would show the pose its back-end rejected (a filter's extrapolation, a diverged state).
+bool drawsAxes(const FrameOverlay& o, const FrameResult& result) {
+  return result.T_world_camera && o.board_axes.size() == 4 &&
+         std::all_of(o.board_axes.begin(), o.board_axes.end(), drawable);
+}
+
+// The legend entries for what the frame draws (one bit each).
+unsigned legendEntries(const FrameOverlay& o, const FrameResult& result) {
   unsigned bits = 0;
   auto set = [&](LegendEntry e) { bits |= 1u << e; };
   if (!o.board_corners.empty()) set(kLegendBoard);
-  if (!o.board_axes.empty()) set(kLegendAxes);
+  if (drawsAxes(o, result)) set(kLegendAxes);
   for (const auto& f : o.features) set(legendEntry(f.state));
   for (const auto& e : o.search_ellipses) set(e.matched ? kLegendMatched : kLegendFailed);
   if (!o.particle_lines.empty()) set(kLegendInitialising);
@@ -257,7 +264,7 @@ cv::Mat OverlayDrawer::draw(const Frame& frame, const FrameResult& result, std::
   cv::cvtColor(frame.grey, image, cv::COLOR_GRAY2BGR);
   const Style st(image.size());
   std::vector<DrawnPrimitive> list;
-  if (result.overlay) legend_seen_ |= legendEntries(*result.overlay);
+  if (result.overlay) legend_seen_ |= legendEntries(*result.overlay, result);
 
   // The panels first: what the back-end saw is drawn over them, never hidden by them.
   drawStatus(image, frame, result, st);
@@ -287,7 +294,7 @@ cv::Mat OverlayDrawer::draw(const Frame& frame, const FrameResult& result, std::
       list.push_back({"feature", f.id, f.uv, toString(f.state)});
     }
     // Axes: origin, then the ends of x, y and z.
-    if (o.board_axes.size() == 4 && std::all_of(o.board_axes.begin(), o.board_axes.end(), drawable)) {
+    if (drawsAxes(o, result)) {
       const cv::Scalar colours[3] = {overlay_colour::kAxisX, overlay_colour::kAxisY, overlay_colour::kAxisZ};
       const char* names[3] = {"x", "y", "z"};
       list.push_back({"board_axis", 0, o.board_axes[0], "origin"});

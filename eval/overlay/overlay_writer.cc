@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
+#include "core/run_files.h"
 #include "core/sequence.h"
 #include "core/text_file.h"
 
@@ -39,7 +40,7 @@ OverlayWriter::OverlayWriter(const std::string& path, cv::Size image_size, doubl
   const bool png_folder = fs::is_directory(p, ec) || extension.empty();
   if (png_folder) {
     createFolder(p, path);
-    csv_path_ = (p / "overlay.csv").string();
+    csv_path_ = (p / run_files::kOverlay).string();
   } else {
     const std::string fourcc = videoFourcc(extension);
     if (fourcc.empty())

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/run_files.h"
 #include "core/sequence.h"
 #include "core/statistics.h"
 #include "core/text_file.h"
@@ -99,7 +100,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   RunResult r;
   r.method = method;
   r.dir = dir;
-  const std::string summary_path = dir + "/summary.json";
+  const std::string summary_path = dir + "/" + run_files::kSummary;
   std::ifstream in = openTextFile(summary_path);  // a folder would throw "Is a directory", naming no file
   try {
     r.summary = nlohmann::json::parse(in);
@@ -107,9 +108,9 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
     throw InputError(summary_path, std::string("not JSON: ") + e.what());
   }
   checkSummary(r.summary, summary_path);
-  r.frames = readFramesCsv(dir + "/frames.csv");
+  r.frames = readFramesCsv(dir + "/" + run_files::kFrames);
   const int tracked = r.summary["tracked"].get<int>();
-  if (tracked > 0) r.trajectory = readTrajectory(dir + "/trajectory.txt", TrajectoryFormat::Tum);
+  if (tracked > 0) r.trajectory = readTrajectory(dir + "/" + run_files::kTrajectory, TrajectoryFormat::Tum);
   // Files of two runs side by side (an old summary.json beside a rerun's files cut short) are no run.
   const int frames = r.summary["frames"].get<int>();
   if (static_cast<int>(r.frames.size()) != frames)
@@ -121,15 +122,16 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
                                                   " tracked: the files are not from one run");
   if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
   // summary.json's nees is the mean of nees.csv: one without the other is not one run either.
-  const bool nees_file = fs::exists(dir + "/nees.csv");
-  if (nees_file) r.nees = readNeesCsv(dir + "/nees.csv");
+  std::error_code ec;
+  const bool nees_file = fs::exists(dir + "/" + run_files::kNees, ec);
+  if (nees_file) r.nees = readNeesCsv(dir + "/" + run_files::kNees);
   if (nees_file != r.summary.contains("nees"))
     throw InputError(dir + (nees_file ? "/nees.csv" : "/summary.json"),
                      nees_file ? "is there but summary.json has no nees: the files are not from one run"
                                : "has nees but nees.csv is missing: the files are not from one run");
   if (seq.scene) {
     const bool scale_free = r.errors && r.errors->align == "sim3";
-    r.map = readRunMap(dir + "/map.ply", scale_free ? &r.errors->T_gt_estimate : nullptr);
+    r.map = readRunMap(dir + "/" + run_files::kMap, scale_free ? &r.errors->T_gt_estimate : nullptr);
     r.map_errors = evaluateMap(r.map, *seq.scene);
   }
   return r;

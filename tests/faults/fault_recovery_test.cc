@@ -108,9 +108,13 @@ class FaultyTv1 : public ::testing::Test {
         EXPECT_NE(row.status, TrackStatus::Lost) << "frame " << row.frame << " not recovered";
       }
     }
-    int lost_reasons = 0;
-    for (const auto& [reason, count] : r.summary["lost_reasons"].items()) lost_reasons += count.get<int>();
-    EXPECT_EQ(lost_reasons, r.summary["lost"].get<int>()) << "every lost frame has a reason";
+    for (const char* kind : {"lost", "initialising"}) {
+      int reasons = 0;
+      for (const auto& [reason, count] : r.summary[std::string(kind) + "_reasons"].items()) reasons += count.get<int>();
+      EXPECT_EQ(reasons, r.summary[kind].get<int>()) << "every " << kind << " frame has a reason";
+    }
+    EXPECT_EQ(r.summary["tracked"].get<int>() + r.summary["lost"].get<int>() + r.summary["initialising"].get<int>(),
+              r.summary["frames"].get<int>());
   }
 
   static TempDir* dir_;

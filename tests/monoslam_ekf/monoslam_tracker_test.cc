@@ -129,6 +129,9 @@ TEST_F(MonoslamOnTv1, BoardStartTracksEveryFrameUnderOneCentimetre) {
   EXPECT_LT(run.ateRmse(), 0.01);
   for (const FrameResult& r : run.results) EXPECT_LE(r.measured, 12);
   EXPECT_GT(run.results.back().measured, 5);
+  // frames.csv's status is the pose's source: the board's in the start frame, the filter's after.
+  EXPECT_EQ(run.results.front().source, "board");
+  EXPECT_EQ(run.results[1].source, "ekf");
 }
 
 // A board-free run whose lens is covered for 15 frames (a burst of blur, a hand over it): the
@@ -588,6 +591,8 @@ TEST(MonoslamTracker, RestartsFromTheBoardWhenItReturns) {
   EXPECT_FALSE(run.results[returned].T_world_camera);
   EXPECT_NE(run.results[returned].reason.find("the restart waits for the next frame's view"), std::string::npos)
       << run.results[returned].reason;
+  EXPECT_EQ(run.results[returned + 1].source, "board");  // the restart's pose
+  EXPECT_EQ(run.results[returned + 2].source, "ekf");
   for (int i = returned + 1; i < run.frames; ++i) {
     ASSERT_TRUE(run.results[i].T_world_camera) << "frame " << i << ": " << run.results[i].reason;
     EXPECT_LT((run.results[i].T_world_camera->t() - (*seq.groundtruth)[i].T_world_camera.t()).norm(), 0.01)
@@ -625,7 +630,9 @@ TumRun runOnTumFr1Rpy(const std::string& sequence, const std::string& options) {
   std::ifstream in(out.file("summary.json"));
   run.summary = nlohmann::json::parse(in);
   EXPECT_EQ(run.summary["frames"], 250);
-  EXPECT_EQ(run.summary["tracked"].get<int>() + run.summary["lost"].get<int>(), 250);
+  EXPECT_EQ(run.summary["tracked"].get<int>() + run.summary["lost"].get<int>() +
+                run.summary["initialising"].get<int>(),
+            250);
   EXPECT_EQ(run.summary["alignment"], "sim3");
   EXPECT_GT(run.summary["scale"].get<double>(), 0.0);
   // Never a made-up pose: trajectory.txt holds exactly the posed frames.

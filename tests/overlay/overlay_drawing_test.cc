@@ -44,6 +44,7 @@ FrameResult resultWith(FrameOverlay overlay, const std::string& source = "board"
   FrameResult r;
   r.status = TrackStatus::Tracked;
   r.source = source;
+  r.T_world_camera = SE3();
   r.overlay = std::move(overlay);
   return r;
 }
@@ -79,6 +80,27 @@ TEST(OverlayDrawing, BoardCornersAndAxesInTheirColoursAtTheirPixels) {
   }
   EXPECT_EQ(corners, 12);
   EXPECT_EQ(axes, 4);
+}
+
+// A lost frame's axes would draw the pose its back-end rejected (monoslam's extrapolation when its
+// position std passed 3 cm): its search is drawn, the axes are not, in the image or overlay.csv.
+TEST(OverlayDrawing, ALostFrameDrawsNoAxes) {
+  FrameOverlay o;
+  o.board_axes = {Vec2(300.3, 200.6), Vec2(360.2, 200.6), Vec2(300.3, 260.1), Vec2(280.0, 150.0)};
+  o.features = {{1, Vec2(100.2, 150.4), OverlayFeatureState::Failed}};
+  FrameResult lost = resultWith(o, "ekf");
+  lost.status = TrackStatus::Lost;
+  lost.T_world_camera.reset();
+  OverlayDrawer drawer;
+  std::vector<DrawnPrimitive> drawn;
+  const cv::Mat image = drawer.draw(greyFrame(), lost, &drawn);
+  ASSERT_EQ(drawn.size(), 1u);
+  EXPECT_EQ(drawn[0].kind, "feature");
+  EXPECT_TRUE(untouched(at(image, Vec2(345.0, 200.6))));  // half way along x
+  EXPECT_TRUE(untouched(at(image, Vec2(300.3, 215))));    // and y
+  // The same overlay with the pose: drawn.
+  drawer.draw(greyFrame(), resultWith(o, "ekf"), &drawn);
+  EXPECT_EQ(drawn.size(), 5u);
 }
 
 TEST(OverlayDrawing, FeatureStatesInTheirColours) {
