@@ -11,11 +11,48 @@
 
 namespace slamcmp {
 
-const char* framesCsvHeader() { return "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured"; }
+namespace {
+
+// The columns every frames.csv has had; `reason` came after them (session 42).
+constexpr const char* kNumberedColumns = "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured";
+
+// RFC 4180: in double quotes, a quote doubled; one line (a line break would end the row).
+std::string quotedField(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"') out += "\"\"";
+    else out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
+// The reason column as written by quotedField (or bare, as a spreadsheet may save it).
+std::string unquotedField(const std::string& field, const std::string& where) {
+  if (field.empty() || field[0] != '"') return field;
+  std::string out;
+  size_t i = 1;
+  for (; i < field.size(); ++i) {
+    if (field[i] != '"') {
+      out += field[i];
+    } else if (i + 1 < field.size() && field[i + 1] == '"') {
+      out += '"';
+      ++i;
+    } else {
+      break;
+    }
+  }
+  if (i + 1 != field.size()) throw InputError(where, "the reason's quotes do not close at the end of the row");
+  return out;
+}
+
+}  // namespace
+
+const char* framesCsvHeader() { return "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured,reason"; }
 
 std::string formatFrameRow(const FrameRow& r) {
-  return formatString("%d,%.6f,%s,%.4f,%.4f,%.4f,%d,%d\n", r.frame, r.timestamp,
-                      statusLabel(r.status, r.source).c_str(), r.ms, r.cpu_ms, r.decode_ms, r.features, r.measured);
+  return formatString("%d,%.6f,%s,%.4f,%.4f,%.4f,%d,%d,%s\n", r.frame, r.timestamp,
+                      statusLabel(r.status, r.source).c_str(), r.ms, r.cpu_ms, r.decode_ms, r.features, r.measured,
+                      r.reason.empty() ? "" : quotedField(r.reason).c_str());
 }
 
 void parseStatusColumn(const std::string& s, const std::string& where, FrameRow* row) {
@@ -35,7 +72,7 @@ void parseStatusColumn(const std::string& s, const std::string& where, FrameRow*
 std::vector<FrameRow> readFramesCsv(const std::string& path) {
   std::ifstream in = openTextFile(path);  // a folder would have the wrong header
   std::string line;
-  if (!std::getline(in, line) || line.rfind(framesCsvHeader(), 0) != 0)
+  if (!std::getline(in, line) || line.rfind(kNumberedColumns, 0) != 0)
     throw InputError(atLine(path, 1), std::string("header must be '") + framesCsvHeader() + "'");
   std::vector<FrameRow> rows;
   int n = 1;
@@ -60,6 +97,10 @@ std::vector<FrameRow> readFramesCsv(const std::string& path) {
       throw InputError(atLine(path, n), "a field is not a number");
     }
     parseStatusColumn(field[2], atLine(path, n), &r);
+    std::string reason;
+    std::getline(ss, reason);  // the rest of the row, commas and all
+    if (!reason.empty() && reason.back() == '\r') reason.pop_back();
+    r.reason = unquotedField(reason, atLine(path, n));
     rows.push_back(r);
   }
   return rows;

@@ -17,11 +17,16 @@ struct FrameRow {
   double decode_ms = 0;  // image decoding
   int features = 0;
   int measured = 0;
+  // Why the frame is lost or initialising, or a note on a posed one ("no feature matched:
+  // prediction only"); empty otherwise. Quoted in the file (it may hold commas).
+  std::string reason;
 };
 
-const char* framesCsvHeader();  // "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured"
+// "frame,timestamp,status,ms,cpu_ms,decode_ms,features,measured,reason"
+const char* framesCsvHeader();
 std::string formatFrameRow(const FrameRow& row);  // with a trailing newline
-std::vector<FrameRow> readFramesCsv(const std::string& path);  // InputError naming file:line
+// InputError naming file:line. Files written before the reason column are read too.
+std::vector<FrameRow> readFramesCsv(const std::string& path);
 // The status column: "initialising", "lost", or else the source of a tracked frame's pose (a
 // lower-case word: "board", "two_view", "ekf").
 void parseStatusColumn(const std::string& s, const std::string& where, FrameRow* row);

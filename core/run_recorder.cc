@@ -53,8 +53,8 @@ void RunRecorder::write(Row row) {
   }
   const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
                                                                                           : TrackStatus::Lost;
-  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.cpu_ms, row.decode_ms, row.features,
-                                  row.measured});
+  frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.cpu_ms, row.decode_ms,
+                                  row.features, row.measured, row.reason});
   frames_file_.flush();
 }
 
