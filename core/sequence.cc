@@ -53,10 +53,13 @@ void checkTargetFitsImages(const ChessboardTarget& target, cv::Size image_size, 
                                 std::to_string(static_cast<int>(kMinSquarePx)) + " pixels");
 }
 
+// The folder's own name: "." and ".." name the folder they stand for (as given they named every
+// trial's render one folder, and hid compare's logs as ".-cslam.log").
 std::string lastComponent(const fs::path& p) {
-  fs::path q = p;
+  fs::path q = fs::absolute(p).lexically_normal();
   if (q.filename().empty()) q = q.parent_path();
-  return q.filename().string();
+  const std::string name = q.filename().string();
+  return name.empty() ? "sequence" : name;  // the file system's root
 }
 
 }  // namespace

@@ -164,7 +164,8 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }
-  fs::remove_all(dir + "/figures", ec);  // an earlier collect's figures are redrawn, or gone
+  // An earlier collect's figures are redrawn, or gone; a user's own files in figures/ stay.
+  for (const std::string& figure : linkedFigures(dir)) fs::remove(fs::path(dir) / figure, ec);
   fs::create_directories(dir + "/figures", ec);
   if (ec) throw InputError(dir + "/figures", "cannot be created: " + ec.message());
   if (unfinished) *unfinished = not_finished;

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/text_file.h"
 #include "core/yaml.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/backends.h"
@@ -88,14 +89,41 @@ constexpr const char* kExperimentFolders[] = {"runs", "logs", "figures"};
 // Where trial k's render of a given sequence goes.
 fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "sequences" / ("seed" + std::to_string(trial)); }
 
-// An earlier compare's folder (its plan.json): its report, runs, logs, figures and trial renders go,
-// or the new report would sit beside the old experiment's (a plan alone leaves no report to read
-// for the new one). Only the folders trialRenderFolder names, not
-// through a link, and not one that is or holds a sequence given now (reproduce renders tv1..tv4
-// into sequences/: its second run into the same folder found them gone).
+// A path an earlier plan.json gives for one of its runs: kept only if it names an entry of `folder`
+// (runs/NAME, logs/NAME.log), so that an edited plan cannot remove anything else.
+bool isOwnEntry(const nlohmann::json& path, const char* folder) {
+  if (!path.is_string()) return false;
+  const fs::path p = path.get<std::string>();
+  return !p.has_root_path() && p.parent_path() == folder && !p.filename().empty() && p.filename() != "." &&
+         p.filename() != "..";
+}
+
+// An earlier compare's folder (its plan.json): what it wrote goes, or the new report would sit
+// beside the old experiment's (a plan alone leaves no report to read for the new one). Only what
+// it wrote: its runs and logs as its plan.json lists them, the figures its report links, its
+// report files, and the folders trialRenderFolder names, not through a link, and not one that is
+// or holds a sequence given now (reproduce renders tv1..tv4 into sequences/: its second run into
+// the same folder found them gone). A user's own files in runs/, logs/ or figures/ (a standalone
+// `slamcmp run`'s default runs/SEQ-BACKEND, a figure for a paper) stay.
 void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>& given) {
+  const std::string plan_path = (dir / "plan.json").string();
+  nlohmann::json earlier;
+  try {
+    std::ifstream in = openTextFile(plan_path);
+    earlier = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(plan_path, std::string("not an earlier compare's plan (not JSON: ") + e.what() +
+                                    "); compare removes only what a compare wrote: give another --out");
+  }
+  if (!earlier.is_object() || !earlier.contains("runs") || !earlier["runs"].is_array())
+    throw InputError(plan_path + ": runs", "missing: not an earlier compare's plan; give another --out");
   std::error_code ec;
-  for (const char* sub : kExperimentFolders) fs::remove_all(dir / sub, ec);
+  for (const nlohmann::json& run : earlier["runs"]) {
+    if (!run.is_object()) continue;
+    if (run.contains("dir") && isOwnEntry(run["dir"], "runs")) fs::remove_all(dir / run["dir"].get<std::string>(), ec);
+    if (run.contains("log") && isOwnEntry(run["log"], "logs")) fs::remove(dir / run["log"].get<std::string>(), ec);
+  }
+  for (const std::string& figure : linkedFigures(dir.string())) fs::remove(dir / figure, ec);
   for (const std::string& file : compareReportFiles()) fs::remove(dir / file, ec);
   std::vector<fs::path> renders;
   for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {

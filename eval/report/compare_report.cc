@@ -216,6 +216,23 @@ const std::vector<std::string>& compareReportFiles() {
   return files;
 }
 
+std::vector<std::string> linkedFigures(const std::string& out_dir) {
+  std::vector<std::string> figures;
+  std::error_code ec;
+  const fs::path report = fs::path(out_dir) / kReportFile;
+  if (!fs::is_regular_file(report, ec)) return figures;
+  std::ifstream in(report);
+  // As writeCompareReport links them: "![stem](figures/NAME)", one a line.
+  for (std::string line; std::getline(in, line);) {
+    const size_t open = line.find("](figures/");
+    if (line.rfind("![", 0) != 0 || open == std::string::npos || line.back() != ')') continue;
+    const fs::path figure = line.substr(open + 2, line.size() - open - 3);
+    if (figure.filename() == figure.relative_path().lexically_relative("figures") && !figure.has_root_path())
+      figures.push_back(figure.string());
+  }
+  return figures;
+}
+
 std::string writeCompareReport(const Plan& plan, const std::vector<SequenceInfo>& seqs,
                                const std::vector<RunResult>& runs, const std::string& out_dir) {
   const std::vector<Method>& methods = plan.methods;

@@ -87,6 +87,9 @@ std::optional<MonteCarloNees> trialsMonteCarloNees(const Plan& plan, const std::
 
 // The files writeCompareReport writes in out_dir, beside figures/.
 const std::vector<std::string>& compareReportFiles();
+// The figures an earlier report in out_dir links (paths relative to out_dir, under figures/): what
+// a new report may remove of figures/, where a user may keep files of their own.
+std::vector<std::string> linkedFigures(const std::string& out_dir);
 
 // report.md, results.csv (one row a run), table_3_1.csv, table_3_2.csv and figures/ in out_dir.
 // runs[k] is plan.runs[k] read back; seqs[s] the plan's given sequence s. Everything written

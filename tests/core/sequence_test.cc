@@ -169,6 +169,28 @@ TEST(Sequence, OpensPlainImageFolderInNameOrder) {
   EXPECT_EQ(cv::norm(frames[0].grey, testImage(32, 24, 1), cv::NORM_INF), 0.0);  // PNG is lossless
 }
 
+// A folder given as ".", ".." or with a trailing slash is named as itself: compare renders trial k
+// of a sequence into sequences/seed<k>/<name>, and ".." put every trial into one folder.
+TEST(Sequence, NamedAsItsFolderHoweverThePathIsWritten) {
+  test::TempDir dir;
+  const std::string seq_dir = dir.file("my_seq");
+  std::filesystem::create_directories(seq_dir + "/sub");
+  writeImage(seq_dir + "/frame_001.png", testImage(32, 24, 1));
+  SequenceOpenOptions options;
+  options.images_fps = 10.0;
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  std::filesystem::current_path(seq_dir + "/sub");
+  const std::string up = openSequence("..", options).name;
+  std::filesystem::current_path(seq_dir);
+  const std::string here = openSequence(".", options).name;
+  const std::string here_slash = openSequence("./", options).name;
+  std::filesystem::current_path(cwd);
+  EXPECT_EQ(up, "my_seq");
+  EXPECT_EQ(here, "my_seq");
+  EXPECT_EQ(here_slash, "my_seq");
+  EXPECT_EQ(openSequence(seq_dir + "/", options).name, "my_seq");
+}
+
 // Numbered names without zeros in front play in their numbers' order, not their bytes'; decimal
 // timestamps (trailing zeros trimmed) in theirs.
 TEST(Sequence, PlainImageFolderNumbersInOrderOfValue) {

@@ -269,6 +269,19 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   EXPECT_FALSE(fs::exists(tmp.file("c/figures/ate_boxplot.png")));
   EXPECT_FALSE(fs::exists(tmp.file("c/figures/sweep_ate_cpu.png")));
   EXPECT_EQ(readResults(tmp.file("c/results.csv")).size(), 4u);
+  const std::vector<std::string> first_figures = linkedFigures(tmp.file("c"));
+  ASSERT_FALSE(first_figures.empty());
+  for (const std::string& figure : first_figures) EXPECT_TRUE(fs::exists(tmp.file("c/" + figure))) << figure;
+  // The user's own files in compare's folders: a figure for a paper, a standalone run's default
+  // folder (runs/SEQ-BACKEND), notes. Every later compare or plan into the folder leaves them.
+  const std::vector<std::string> users = {"c/figures/paper_fig1.pdf", "c/runs/tv1-monoslam/summary.json",
+                                          "c/runs/notes.txt", "c/logs/mine.txt"};
+  for (const std::string& file : users) {
+    fs::create_directories(fs::path(tmp.file(file)).parent_path());
+    test::writeText(tmp.file(file), "the user's\n");
+  }
+  runCompare(options);  // the same experiment again, and its collect
+  for (const std::string& file : users) EXPECT_TRUE(fs::exists(tmp.file(file))) << file;
 
   // A plan into the folder: the earlier experiment's report and tables go with its runs.
   CompareOptions plan_only = shortCompare(seq, "cslam", tmp.file("c"));
@@ -286,7 +299,12 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   EXPECT_FALSE(fs::exists(tmp.file("c/sequences")));
   size_t runs = 0;
   for (const auto& entry : fs::directory_iterator(tmp.file("c/runs"))) runs += entry.is_directory();
-  EXPECT_EQ(runs, 1u);
+  EXPECT_EQ(runs, 2u);  // this compare's and the user's
+  for (const std::string& file : users) EXPECT_TRUE(fs::exists(tmp.file(file))) << file;
+  // The first report's figures that this one does not draw are gone.
+  const std::vector<std::string> figures = linkedFigures(tmp.file("c"));
+  for (const std::string& figure : first_figures)
+    EXPECT_EQ(fs::exists(tmp.file("c/" + figure)), std::count(figures.begin(), figures.end(), figure) == 1) << figure;
 
   // A sequence given from the folder's sequences/ (as reproduce renders tv1..tv4 there) stays for
   // the next compare into it; the earlier trials' renders beside it go.
