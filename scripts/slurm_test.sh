@@ -124,12 +124,18 @@ echo "slurm_test: cluster up ($host, $cpus CPUs) after $(( $(date +%s) - start_t
 "$slamcmp" synth --preset tv1 --frames 20 --supersample 1 --out "$work/tv1" > /dev/null
 plan=(--sequence "$work/tv1" --backends cslam,monoslam --trials 2)
 # An array of 3 tasks for the 4 runs: task 1 runs the first line and the last, as a plan larger than
-# Slurm's MaxArraySize runs.
-"$slamcmp" compare "${plan[@]}" --plan "$work/plan" --array-tasks 3 > /dev/null
-jobs=$(wc -l < "$work/plan/jobs.txt")
-timeout 600 sbatch --wait --chdir="$work" "$work/plan/slurm.sbatch" > "$work/sbatch.out" 2>&1 ||
+# Slurm's MaxArraySize runs. The plan's folder holds a space and a '%a' (Slurm expands '%' in
+# --output: its tasks' logs went to another folder, which did not exist, and no run started).
+planned="$work/plan 5%a"
+"$slamcmp" compare "${plan[@]}" --plan "$planned" --array-tasks 3 > /dev/null
+jobs=$(wc -l < "$planned/jobs.txt")
+timeout 600 sbatch --wait --chdir="$work" "$planned/slurm.sbatch" > "$work/sbatch.out" 2>&1 ||
   { cat "$work/sbatch.out" >&2; echo "slurm_test: sbatch --wait failed" >&2; exit 1; }
-"$slamcmp" compare --collect "$work/plan" > /dev/null
+if [ "$(ls "$planned/logs" | grep -c '^slurm-.*\.out$')" -ne 3 ]; then
+  ls -la "$planned/logs" >&2; echo "slurm_test: the 3 tasks' Slurm logs are not in the plan's logs/" >&2; exit 1
+fi
+"$slamcmp" compare --collect "$planned" > /dev/null
+mv "$planned" "$work/plan"
 
 # The same plan compared locally.
 "$slamcmp" compare "${plan[@]}" --out "$work/local" > /dev/null

@@ -366,6 +366,9 @@ void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks) {
   write("jobs.txt", jobs);
   const size_t tasks = std::min(plan.runs.size(), static_cast<size_t>(std::max(array_tasks, 1)));
   const std::string jobs_path = shellQuoted((fs::path(dir) / "jobs.txt").string());
+  // Slurm expands %A, %a, ... in --output: a '%' of the folder's own is written '%%'.
+  std::string log_dir;
+  for (const char c : (fs::path(dir) / "logs").string()) log_dir += c == '%' ? std::string("%%") : std::string(1, c);
   std::ostringstream sbatch;
   sbatch << "#!/bin/bash\n"
          << "# slamcmp compare --plan: a Slurm array job over jobs.txt (one `slamcmp run` a line): task k runs\n"
@@ -377,7 +380,13 @@ void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks) {
          << "#SBATCH --ntasks=1\n"
          << "#SBATCH --cpus-per-task=1\n"
          // Slurm splits a directive at spaces unless the value is in double quotes.
-         << "#SBATCH --output=\"" << (fs::path(dir) / "logs" / "slurm-%A_%a.out").string() << "\"\n"
+         << "#SBATCH --output=\"" << log_dir << "/slurm-%A_%a.out\"\n"
+         // A wider --array than written would run some lines twice, at once, into the same folders.
+         << "if [ \"${SLURM_ARRAY_TASK_ID:-1}\" -gt " << tasks << " ]; then\n"
+         << "  echo \"slurm.sbatch: task ${SLURM_ARRAY_TASK_ID} of an array written for 1-" << tasks
+         << " (compare --plan --array-tasks)\" >&2\n"
+         << "  exit 2\n"
+         << "fi\n"
          << "status=0\n"
          << "for k in $(seq \"${SLURM_ARRAY_TASK_ID:-1}\" " << tasks << " " << plan.runs.size() << "); do\n"
          << "  line=$(sed -n \"${k}p\" " << jobs_path << ")\n"

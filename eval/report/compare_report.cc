@@ -120,7 +120,14 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
     throw InputError(dir + "/trajectory.txt", "has " + std::to_string(r.trajectory.size()) +
                                                   " poses but summary.json says " + std::to_string(tracked) +
                                                   " tracked: the files are not from one run");
-  if (seq.groundtruth) r.errors = evaluateRun(*seq.groundtruth, r.trajectory, r.summary.value("alignment", "none"));
+  // A run that could not be scored says why (too few poses, ground truth without a time in common)
+  // and is whole all the same, as `run` exits 0 for it: its score cells stay empty.
+  const std::string alignment = r.summary.value("alignment", "none");
+  if (r.summary.contains("metrics_error"))
+    r.error = "not scored: " + (r.summary["metrics_error"].is_string() ? r.summary["metrics_error"].get<std::string>()
+                                                                        : r.summary["metrics_error"].dump());
+  else if (seq.groundtruth)
+    r.errors = evaluateRun(*seq.groundtruth, r.trajectory, alignment);
   // summary.json's nees is the mean of nees.csv: one without the other is not one run either.
   std::error_code ec;
   const bool nees_file = fs::exists(dir + "/" + run_files::kNees, ec);
@@ -129,7 +136,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
     throw InputError(dir + (nees_file ? "/nees.csv" : "/summary.json"),
                      nees_file ? "is there but summary.json has no nees: the files are not from one run"
                                : "has nees but nees.csv is missing: the files are not from one run");
-  if (seq.scene) {
+  if (seq.scene && (alignment != "sim3" || r.errors)) {  // a scale-free map needs the run's scale
     const bool scale_free = r.errors && r.errors->align == "sim3";
     r.map = readRunMap(dir + "/" + run_files::kMap, scale_free ? &r.errors->T_gt_estimate : nullptr);
     r.map_errors = evaluateMap(r.map, *seq.scene);

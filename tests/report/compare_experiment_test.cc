@@ -338,6 +338,26 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   EXPECT_TRUE(fs::is_symlink(tmp.file("r/sequences/seed5")));
 }
 
+// A run that `run` could not score (two posed frames under Sim(3): the alignment needs three) is
+// whole, as `run` exits 0 for it: compare lists it ok with empty score cells and says why, where it
+// called it failed and exited 2.
+TEST(CompareExperiment, ARunTooShortToScoreIsWholeNotFailed) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 12);
+  CompareOptions options = shortCompare(seq, "monoslam@none", tmp.file("c"));
+  options.max_frames = 2;
+  std::vector<UnfinishedRun> unfinished;
+  runCompare(options, &unfinished);
+  EXPECT_TRUE(unfinished.empty());
+  const auto rows = readResults(tmp.file("c/results.csv"));
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].at("status"), "ok");
+  EXPECT_TRUE(rows[0].at("ate_trans_rmse_m").empty()) << rows[0].at("ate_trans_rmse_m");
+  EXPECT_NE(rows[0].at("error").find("not scored"), std::string::npos) << rows[0].at("error");
+  EXPECT_NE(rows[0].at("error").find("3"), std::string::npos) << rows[0].at("error");
+}
+
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
 // more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
 TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
