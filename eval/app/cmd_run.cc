@@ -49,7 +49,7 @@ void addRunCommand(CLI::App& app) {
     if (seed_option->count() > 0) request->seed = *seed;
     const nlohmann::json summary = runSequence(*request);
     std::cout << summary["backend"].get<std::string>() << ": " << summary["tracked"] << "/"
-              << summary["frames"] << " frames tracked";
+              << summary["frames"] << kRunResultMark;
     if (summary["ms_per_frame"]["median"].is_number())  // null when interrupted before a frame was timed
       std::cout << ", median " << summary["ms_per_frame"]["median"].get<double>() << " ms/frame";
     if (summary.contains("ate")) std::cout << ", ATE rmse " << summary["ate"]["trans"]["rmse"] << " m";

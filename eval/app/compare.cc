@@ -13,6 +13,7 @@
 #include "eval/app/backends.h"
 #include "eval/app/compare_plan.h"
 #include "eval/app/job_runner.h"
+#include "eval/app/run_sequence.h"
 #include "eval/report/experiment_plan.h"
 #include "eval/report/plot.h"
 
@@ -104,19 +105,28 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
       r.error = e.what();
     }
   } else if (fs::exists(fs::path(dir) / planned.log, ec)) {
-    r.status = "failed";
     try {
-      // A run that failed ended its log on its error ("slamcmp: ..."); one whose log ends otherwise
-      // (on its result line, its summary.json since removed) is said to lack its summary.
+      // A run that failed ended its log on its error ("slamcmp: ..."); one that compare stopped before
+      // it wrote anything, on compare's note; one that finished, on its result line. Any other has
+      // not finished: still running (a cluster's collect mid-way), or killed without a word.
       const std::string last = lastLogLine((fs::path(dir) / planned.log).string());
       const std::string error_prefix = "slamcmp: ";
-      if (last.empty())
-        r.error = "no summary.json and nothing in its log (killed?)";
-      else if (last.compare(0, error_prefix.size(), error_prefix) == 0)
+      if (last.compare(0, error_prefix.size(), error_prefix) == 0) {
+        r.status = "failed";
         r.error = last.substr(error_prefix.size());
-      else
+      } else if (last.rfind(kStoppedByCompare, 0) == 0) {
+        r.status = "interrupted";
+        r.error = last;
+      } else if (last.find(kRunResultMark) != std::string::npos) {  // finished, its summary.json since removed
+        r.status = "failed";
         r.error = "no summary.json; its log ends: " + last;
+      } else {
+        r.status = "unfinished";
+        r.error = "no summary.json yet: still running, or stopped without a word (its log ends: " +
+                  (last.empty() ? std::string("nothing") : last) + ")";
+      }
     } catch (const InputError& e) {  // the log is a folder or unreadable: that is the run's error
+      r.status = "failed";
       r.error = e.what();
     }
   } else {
@@ -186,7 +196,7 @@ void sayCompareReport(const std::string& dir, const std::string& report, const s
   // where scripts look, beside any that failed.
   if (const size_t others = unfinished.size() - static_cast<size_t>(failed); others > 0)
     std::cerr << "slamcmp: warning: " << report << ": " << others
-              << " run(s) not finished (not run or interrupted); the report marks them\n";
+              << " run(s) not finished (not run, running or interrupted); the report marks them\n";
   if (failed > 0)
     throw InputError(report, std::to_string(failed) + " run(s) failed (the lines above); the report marks them");
 }

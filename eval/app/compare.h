@@ -40,7 +40,7 @@ struct CompareOptions {
 // A run of a compare that did not finish, as its report lists it.
 struct UnfinishedRun {
   std::string dir;     // runs/NAME, relative to the compare's folder
-  std::string status;  // failed | interrupted | not run
+  std::string status;  // failed | interrupted | unfinished (running, or killed without a word) | not run
   std::string error;   // why ("" if nothing says)
 };
 

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -45,6 +47,18 @@ pid_t startRun(const PlannedRun& run, const std::string& dir) {
   return pid;
 }
 
+// A run ended by a signal says so in its log, whose last line collect reads: stopped by compare
+// itself, or a crash ("slamcmp: ...", a failed run's form).
+void noteSignal(const PlannedRun& run, const std::string& dir, int signal, bool stopping) {
+  std::ofstream log(std::filesystem::path(dir) / run.log, std::ios::app);
+  const std::string name = strsignal(signal) ? strsignal(signal) : "unknown";
+  if (stopping)
+    log << "\n" << kStoppedByCompare << " this run (signal " << signal << ", " << name
+        << ") before it wrote its outputs\n";
+  else
+    log << "\nslamcmp: the run ended on signal " << signal << " (" << name << ")\n";
+}
+
 }  // namespace
 
 bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs) {
@@ -75,6 +89,7 @@ bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs) {
     for (size_t k = 0; k < running.size();) {
       int status = 0;
       if (waitpid(running[k].pid, &status, WNOHANG) == running[k].pid) {
+        if (WIFSIGNALED(status)) noteSignal(plan.runs[running[k].run], dir, WTERMSIG(status), stopping);
         running.erase(running.begin() + static_cast<long>(k));
         ++done;
       } else {

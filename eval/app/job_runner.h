@@ -12,4 +12,8 @@ namespace slamcmp {
 // Returns false when interrupted.
 bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs);
 
+// The line a run's log ends with when compare stopped it before it could leave outputs of its own
+// (a signal in its first fraction of a second, before its handler): collect calls it interrupted.
+inline constexpr const char* kStoppedByCompare = "slamcmp compare: stopped";
+
 }  // namespace slamcmp

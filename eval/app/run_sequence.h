@@ -34,6 +34,9 @@ struct RunRequest {
 // Runs to the end of the sequence (or max_frames, or Ctrl-C: the frames done stay valid) and
 // returns summary.json's content. Throws InputError for bad input.
 nlohmann::json runSequence(const RunRequest& request);
+// What `run` prints after its summary ("cslam: 20/20 frames tracked, ..."): a log holding it
+// belongs to a run that finished (compare's collect tells it from one still running).
+inline constexpr const char* kRunResultMark = " frames tracked";
 
 // Ctrl-C stops runs at the next frame instead of killing the process.
 void installInterruptHandler();

@@ -358,6 +358,35 @@ TEST(CompareExperiment, ARunTooShortToScoreIsWholeNotFailed) {
   EXPECT_NE(rows[0].at("error").find("3"), std::string::npos) << rows[0].at("error");
 }
 
+// Collected while its runs are still going (a cluster's array mid-way), a run with a log but no
+// summary.json is not finished, not failed: collect exits 0 with its warning (it called every
+// running run failed and exited 2). A run that ended on a signal compare did not send (a crash)
+// failed, and says which signal.
+TEST(CompareExperiment, RunningRunsAreUnfinishedAndACrashSaysItsSignal) {
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 4);
+  CompareOptions options = shortCompare(seq, "cslam", tmp.file("p"));
+  options.slamcmp = "/bin/true";  // never run: the runs' logs are made here
+  planCompare(options);
+  test::writeText(tmp.file("p/logs/tv1-cslam.log"), "tv1: warning: a line a running run printed\n");
+  std::vector<UnfinishedRun> unfinished;
+  collectCompare(tmp.file("p"), &unfinished);  // throws InputError if a run failed
+  ASSERT_EQ(unfinished.size(), 1u);
+  EXPECT_EQ(unfinished[0].status, "unfinished");
+  EXPECT_NE(unfinished[0].error.find("still running"), std::string::npos) << unfinished[0].error;
+
+  // A run program that dies on SIGKILL.
+  const std::string crash = tmp.file("crash.sh");
+  test::writeText(crash, "#!/bin/sh\nkill -KILL $$\n");
+  fs::permissions(crash, fs::perms::owner_all);
+  CompareOptions crashing = shortCompare(seq, "cslam", tmp.file("c"));
+  crashing.slamcmp = crash;
+  runCompare(crashing, &unfinished);
+  ASSERT_EQ(unfinished.size(), 1u);
+  EXPECT_EQ(unfinished[0].status, "failed");
+  EXPECT_NE(unfinished[0].error.find("ended on signal 9"), std::string::npos) << unfinished[0].error;
+}
+
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
 // more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
 TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
