@@ -174,8 +174,10 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }
-  // An earlier collect's figures are redrawn, or gone; a user's own files in figures/ stay.
+  // An earlier collect's figures are redrawn, or gone; a user's own files in figures/ stay. Its
+  // report goes first: one stopped while drawing (Ctrl-C) leaves no old report beside new tables.
   for (const std::string& figure : linkedFigures(dir)) fs::remove(fs::path(dir) / figure, ec);
+  for (const std::string& file : compareReportFiles()) fs::remove(fs::path(dir) / file, ec);
   fs::create_directories(dir + "/figures", ec);
   if (ec) throw InputError(dir + "/figures", "cannot be created: " + ec.message());
   if (unfinished) *unfinished = not_finished;

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/interrupt.h"
+
 namespace slamcmp {
 
 std::string shadeColour(const std::string& colour, double t) {
@@ -188,6 +190,8 @@ void writeFigurePng(const Figure& figure, const std::string& path) {
   const std::string script = gnuplotScript(figure, path);
   std::fwrite(script.data(), 1, script.size(), gp);
   const int status = pclose(gp);
+  // A terminal's Ctrl-C reaches gnuplot too: that is the interruption, not a missing gnuplot.
+  if (status != 0 && interruptRequested()) throw Interrupted("interrupted while drawing " + path);
   if (status != 0) throw std::runtime_error("gnuplot failed writing " + path + " (is gnuplot installed?)");
 }
 

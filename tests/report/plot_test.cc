@@ -1,12 +1,14 @@
 #include "eval/report/plot.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "core/interrupt.h"
 #include "tests/test_util.h"
 
 namespace slamcmp {
@@ -109,6 +111,33 @@ TEST(Plot, WritesAPng) {
 // A method's variants (its settings, its start) in shades of its colour, each its own: a colour
 // darkened towards black, or lightened towards white; black itself (monoslam's) lightened for every
 // shade, where darkening gave four of six variants the same black.
+// gnuplot failing once Ctrl-C was pressed (it gets the terminal's SIGINT too) is the interruption
+// (exit 130), not "is gnuplot installed?" (exit 1, compare's report lost).
+TEST(Plot, AFailureAfterAnInterruptIsTheInterruption) {
+  test::TempDir tmp;
+  const std::string unwritable = tmp.file("no/such/folder/fig.png");  // gnuplot fails on it
+  try {
+    writeFigurePng(twoPanelFigure(), unwritable);
+    ADD_FAILURE() << "gnuplot wrote into a missing folder";
+  } catch (const Interrupted&) {
+    ADD_FAILURE() << "an interruption without Ctrl-C";
+  } catch (const std::runtime_error&) {
+  }
+  // In a child process: the request is the process's, for good.
+  EXPECT_EXIT(
+      {
+        requestInterrupt();
+        try {
+          writeFigurePng(twoPanelFigure(), unwritable);
+        } catch (const Interrupted&) {
+          std::exit(0);
+        } catch (...) {
+        }
+        std::exit(1);
+      },
+      ::testing::ExitedWithCode(0), "");
+}
+
 TEST(Plot, ShadesOfOneColourDifferEvenFromBlack) {
   EXPECT_EQ(shadeColour("#d62728", 0.0), "#d62728");
   EXPECT_EQ(shadeColour("#d62728", 0.5), "#ea9393");
