@@ -289,6 +289,21 @@ Plan makePlan(const CompareOptions& options) {
     }
     synths.push_back(std::move(synth));
   }
+  // Trial k is rendered with seed k: two given renders that differ in their seed alone share every
+  // trial, and their rows would be the same renders under two names.
+  if (options.trials > 1)
+    for (size_t s = 0; s < synths.size(); ++s)
+      for (size_t t = s + 1; t < synths.size(); ++t) {
+        if (!synths[s] || !synths[t]) continue;
+        SynthOptions a = *synths[s], b = *synths[t];
+        a.seed = b.seed = 0;
+        for (SynthOptions* o : {&a, &b})  // as the trials render them
+          o->frames = options.max_frames > 0 ? std::min(o->frameCount(), options.max_frames) : o->frameCount();
+        if (optionsToJson(a) == optionsToJson(b))
+          std::cerr << plan.sequences[t] << ": warning: the same render as " << plan.sequences[s]
+                    << " but for its seed: trial k of each is rendered with seed k, so their " << options.trials
+                    << " trials are the same sequences (give one of them)\n";
+      }
 
   std::error_code ec;
   if (fs::exists(dir / "plan.json", ec)) removeEarlierExperiment(dir, plan.sequences);

@@ -387,6 +387,33 @@ TEST(CompareExperiment, RunningRunsAreUnfinishedAndACrashSaysItsSignal) {
   EXPECT_NE(unfinished[0].error.find("ended on signal 9"), std::string::npos) << unfinished[0].error;
 }
 
+// Two renders of one preset that differ in their seed alone share every trial (trial k is seed k):
+// compare says so. A third with other options (noise) is not said to.
+TEST(CompareExperiment, RendersDifferingInTheirSeedAloneAreSaidToShareTheirTrials) {
+  TempDir tmp;
+  SynthOptions synth;
+  synth.preset = "tv1";
+  synth.frames = 4;
+  synth.supersample = 1;
+  writeSyntheticSequence(synth, tmp.file("s1"));
+  synth.seed = 2;
+  writeSyntheticSequence(synth, tmp.file("s2"));
+  synth.noise = 1.0;
+  writeSyntheticSequence(synth, tmp.file("noisy"));
+  CompareOptions options = shortCompare(tmp.file("s1"), "cslam", tmp.file("p"));
+  options.sequences = {tmp.file("s1"), tmp.file("s2"), tmp.file("noisy")};
+  options.trials = 2;
+  testing::internal::CaptureStderr();
+  planCompare(options);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find(tmp.file("s2") + ": warning: the same render as " + tmp.file("s1")), std::string::npos) << err;
+  EXPECT_EQ(err.find(tmp.file("noisy") + ": warning"), std::string::npos) << err;
+  options.trials = 1;  // each its own render
+  testing::internal::CaptureStderr();
+  planCompare(options);
+  EXPECT_EQ(testing::internal::GetCapturedStderr().find("warning"), std::string::npos);
+}
+
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
 // more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
 TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
