@@ -4,6 +4,7 @@
 // set, so runs that draw nothing pay nothing. Drawing lives in eval; this is only the data.
 #include <vector>
 
+#include "core/camera.h"
 #include "core/geometry.h"
 
 namespace slamcmp {
@@ -39,6 +40,11 @@ struct OverlayBoardCorner {
 
 // The corners of a whole board detected in the target's order: corner k is the target's k.
 std::vector<OverlayBoardCorner> wholeBoardCorners(const std::vector<Vec2>& uv);
+
+// FrameOverlay::board_axes for a camera at T_world_camera: the board's origin, then the ends of its
+// x, y and z axes (1.5 squares long); none when an end is behind the camera, or without a board
+// (square_size 0).
+std::vector<Vec2> boardAxes(const CameraModel& camera, double square_size, const SE3& T_world_camera);
 
 struct FrameOverlay {
   std::vector<OverlayBoardCorner> board_corners;  // the board corners detected; empty if none

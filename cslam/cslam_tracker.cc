@@ -502,18 +502,7 @@ FrameOverlay CslamTracker::overlay(const BoardView* board, const std::optional<S
   if (board)
     for (size_t k = 0; k < board->ids.size(); ++k)
       o.board_corners.push_back({board->ids[k], Vec2(board->uv[k].x, board->uv[k].y)});
-  if (T_world_camera) {
-    const SE3 T_camera_world = T_world_camera->inverse();
-    const double axis = 1.5 * target_.square_size;
-    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(axis, 0, 0), Vec3(0, axis, 0), Vec3(0, 0, axis)}) {
-      const Vec3 p_camera = T_camera_world * p;
-      if (p_camera.z() <= 0) {
-        o.board_axes.clear();
-        break;
-      }
-      o.board_axes.push_back(camera_->project(p_camera));
-    }
-  }
+  if (T_world_camera) o.board_axes = boardAxes(*camera_, target_.square_size, *T_world_camera);
   for (const auto& f : features_.features())
     o.features.push_back({f.id, Vec2(f.uv.x, f.uv.y), OverlayFeatureState::Inlier});
   for (const auto& f : features_.dropped())
@@ -653,13 +642,12 @@ SE3 CslamTracker::addKeyframe(const Frame& frame, const PosedFrame& posed, const
                               const std::vector<Vec2>& xy, FrameResult* result) {
   Keyframe keyframe;
   keyframe.frame_index = frame.index;
-  keyframe.timestamp = frame.timestamp;
   keyframe.T_world_camera = posed.T_world_camera;
   keyframe.features = posed.xy_normalised;
   if (board) {
     keyframe.board_ids = board->ids;
     keyframe.board_xy = board->xy;
-    keyframe.T_world_board = board->T_world_camera;
+    keyframe.T_world_camera_by_board = board->T_world_camera;
   }
   const KeyframeWindow::Added added = window_->add(std::move(keyframe));
   for (const Feature& f : features_.features())

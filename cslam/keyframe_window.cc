@@ -128,7 +128,6 @@ KeyframeWindow::Added KeyframeWindow::add(Keyframe kf) {
   Added added;
   added.reanchored = options_.reanchor && anchors(keyframes_.back()) && reanchorGap();
   refine();
-  for (const auto& [id, xy] : keyframes_.back().features) added.points += tracks_.at(id).valid;
   added.T_world_camera = keyframes_.back().T_world_camera;
   while (numKeyframes() > options_.max_keyframes) dropOldest();
   return added;
@@ -274,7 +273,7 @@ bool KeyframeWindow::reanchorGap() {
     if (track.valid && seen_in_gap) p_world.push_back(track.p_world), xy.push_back(obs);
   }
   if (static_cast<int>(p_world.size()) < kMinPointsToReanchor) return false;
-  const SE3 T_world_odometry =
+  const SE3 T_world_camera_by_map =
       refinePose(back.T_world_camera.inverse(), p_world, xy, focal_px_, PoseRefinementOptions{10, 2.0})
           .T_camera_world.inverse();
   // The chain last board keyframe -> gap keyframes -> returning keyframe, held at both ends, the
@@ -284,17 +283,17 @@ bool KeyframeWindow::reanchorGap() {
   std::vector<PoseGraphEdge> edges;
   for (int s = last_board; s <= newest; ++s) {
     nodes.push_back(keyframe(s).T_world_camera);
-    if (s == newest) nodes.back() = keyframe(s).T_world_board;  // the board's word on where it is
+    if (s == newest) nodes.back() = keyframe(s).T_world_camera_by_board;  // the board's word on where it is
     fixed.push_back(s == last_board || s == newest);
     if (s == last_board) continue;
     PoseGraphEdge e;
     e.from = static_cast<int>(nodes.size()) - 2;
     e.to = e.from + 1;
-    e.T_from_to = nodes[e.from].inverse() * (s == newest ? T_world_odometry : nodes[e.to]);
+    e.T_from_to = nodes[e.from].inverse() * (s == newest ? T_world_camera_by_map : nodes[e.to]);
     edges.push_back(e);
   }
   const std::vector<SE3> corrected = optimisePoseGraph(nodes, fixed, edges);
-  keyframe(newest).T_world_camera = keyframe(newest).T_world_board;
+  keyframe(newest).T_world_camera = keyframe(newest).T_world_camera_by_board;
   // Each gap keyframe's correction (world frame); a point moves with the newest gap keyframe
   // that saw it.
   std::unordered_map<int, SE3> correction;

@@ -73,12 +73,11 @@ struct KeyframeWindowOptions {
 
 struct Keyframe {
   int frame_index = 0;
-  double timestamp = 0;  // seconds
   SE3 T_world_camera;
   std::unordered_map<int, Vec2> features;  // feature id -> undistorted normalised coordinates
   std::vector<int> board_ids;              // board corners seen (SPEC section 2 indices)
   std::vector<Vec2> board_xy;              // their undistorted normalised coordinates
-  SE3 T_world_board;                       // the pose from the board's corners alone, when seen
+  SE3 T_world_camera_by_board;             // the camera's pose from the board's corners alone, when seen
   bool hasBoard() const { return !board_ids.empty(); }
 };
 
@@ -93,7 +92,6 @@ class KeyframeWindow {
   struct Added {
     SE3 T_world_camera;      // the new keyframe's pose after refinement
     bool reanchored = false;  // the board returned: the gap's keyframes were corrected
-    int points = 0;           // map points in the refinement
   };
   Added add(Keyframe keyframe);
 

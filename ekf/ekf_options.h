@@ -1,8 +1,8 @@
 #pragma once
 // The options of the EKF's pieces (SPEC section 5), shared by the EKF back-ends. Defaults are
 // SceneLib's where it has one (monoslam.cpp: 100 particles over 0.5-5 m, 20 particles minimum,
-// prune 0.05, 10-12 features a frame, 80x60 initialisation boxes) except the motion noise and the
-// promotion ratio (see below).
+// prune 0.05, 10-12 features a frame, 80x60 initialisation boxes) except the motion noise, the
+// promotion ratio and the search's variance floor (search.min_variance_factor; see below).
 #include <string>
 
 #include "core/options.h"
@@ -261,7 +261,8 @@ struct ReportingOptions {
   void visit(V& v) {
     v("min_measured", min_measured, "measurements a frame (points and board corners) for a well-measured frame");
     v("max_weak_frames", max_weak_frames, "this many weakly measured frames running: the frames are lost");
-    v("max_position_sigma", max_position_sigma, "m; a larger camera position std (largest axis): lost");
+    v("max_position_sigma", max_position_sigma,
+      "m; a larger camera position std (largest axis): lost (not board-free: its scale's std grows by itself)");
     v("max_innovation_jump", max_innovation_jump,
       "the matches' NIS per dof this many times its median over the run's last innovation_window frames: lost "
       "(a mismatch moved the filter); 0: off");

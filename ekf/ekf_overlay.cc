@@ -58,16 +58,7 @@ FrameOverlay ekfOverlay(const EkfState& state, const std::vector<MapFeature>& fe
     }
     overlay.particle_lines.push_back(std::move(line));
   }
-  const double axis = 1.5 * target.square_size;
-  const Vec3 ends[4] = {Vec3::Zero(), Vec3(axis, 0, 0), Vec3(0, axis, 0), Vec3(0, 0, axis)};
-  for (const Vec3& p : ends) {
-    Vec2 uv;
-    if (!project(p, &uv)) {
-      overlay.board_axes.clear();
-      break;
-    }
-    overlay.board_axes.push_back(uv);
-  }
+  overlay.board_axes = boardAxes(camera, target.square_size, state.T_world_camera());
   return overlay;
 }
 

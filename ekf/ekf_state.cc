@@ -4,6 +4,13 @@
 
 namespace slamcmp {
 
+Eigen::Matrix<double, 13, 13> cameraCovariance(double sigma_r, double sigma_q, double sigma_v, double sigma_w) {
+  Eigen::Matrix<double, 13, 13> P = Eigen::Matrix<double, 13, 13>::Zero();
+  P.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec4::Constant(sigma_q * sigma_q),
+      Vec3::Constant(sigma_v * sigma_v), Vec3::Constant(sigma_w * sigma_w);
+  return P;
+}
+
 void EkfState::reset(const SE3& T_world_camera, const Eigen::Matrix<double, 13, 13>& P_camera) {
   x_ = Eigen::VectorXd::Zero(kCameraDim);
   x_.segment<3>(kR) = T_world_camera.t();

@@ -2,7 +2,7 @@
 // The EKF state x = (r, q, v, w, feature blocks...) and its full covariance P (SPEC section 5).
 // Camera: position r (world), unit quaternion q = (w, x, y, z) of R_world_camera, linear velocity v
 // (world, m/s), angular velocity w (camera frame, rad/s): 13 values. Feature blocks follow in the
-// order they were appended (3 for a point, 6 for an initialising ray); removing one removes its
+// order they were appended (3 for a point, 6 for an initialising ray or an inverse-depth feature); removing one removes its
 // rows and columns. A tail of other blocks (a back-end's cloned camera poses and tracked points)
 // may follow the features.
 #include <Eigen/Core>
@@ -19,6 +19,10 @@ struct StateBlock {
   Eigen::MatrixXd P_block;
   Eigen::MatrixXd P_block_rest;
 };
+
+// The camera block's covariance for independent stds of its position (m), quaternion components,
+// velocity (m/s) and angular velocity (rad/s): a start's, a restart's, a relocation's.
+Eigen::Matrix<double, 13, 13> cameraCovariance(double sigma_r, double sigma_q, double sigma_v, double sigma_w);
 
 class EkfState {
  public:

@@ -64,7 +64,7 @@ DepthParticles uniformParticles(int n, double min_depth, double max_depth) {
 
 bool updateDepthParticles(const EkfState& state, int ray_offset, const CameraModel& camera,
                           const cv::Mat& grey, const cv::Mat& templ, const ActiveSearchOptions& search,
-                          double prune_threshold, DepthParticles* particles, Vec2* uv_match) {
+                          double prune_threshold, DepthParticles* particles) {
   const Vec3 r0 = state.x().segment<3>(ray_offset);
   const Vec3 h = state.x().segment<3>(ray_offset + 3);
   const Eigen::MatrixXd& P = state.P();
@@ -97,7 +97,6 @@ bool updateDepthParticles(const EkfState& state, int ray_offset, const CameraMod
   const std::vector<PatchMatch> matches = searchEllipses(grey, templ, searched, search.sigma_gate, search.min_ncc);
   if (matches.empty()) return false;
   const PatchMatch& match = matches.front();
-  if (uv_match) *uv_match = match.uv;
 
   std::vector<double> weight(particles->size(), 0.0);
   double best = 0, total = 0;

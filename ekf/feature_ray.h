@@ -35,9 +35,10 @@ DepthParticles uniformParticles(int n, double min_depth, double max_depth);
 // One frame of depth estimation: predicts each particle's pixel and innovation covariance from the
 // state (camera and ray blocks), searches the union of their gated ellipses with the template,
 // multiplies each weight by the Gaussian likelihood of the match, normalises and prunes those
-// under prune_threshold times the best. False (weights unchanged) if nothing matched.
+// under prune_threshold times the best. False (weights unchanged) if nothing matched, or while the
+// particles' ellipses span over a quarter of the image (the search waits for a smaller spread).
 bool updateDepthParticles(const EkfState& state, int ray_offset, const CameraModel& camera,
                           const cv::Mat& grey, const cv::Mat& templ, const ActiveSearchOptions& search,
-                          double prune_threshold, DepthParticles* particles, Vec2* uv_match = nullptr);
+                          double prune_threshold, DepthParticles* particles);
 
 }  // namespace slamcmp

@@ -10,7 +10,7 @@ namespace slamcmp {
 
 struct MapFeature {
   int id = 0;
-  int offset = 0;        // state offset: 3 values for a point, 6 for a ray
+  int offset = 0;        // state offset: 3 values for a point, 6 for a ray or an inverse-depth feature
   bool is_ray = false;   // initialising: ray plus depth particles
   bool inverse_depth = false;  // measured in inverse depth (inverse_depth.h) until converted to a point
   bool known = false;    // a board corner with zero uncertainty

@@ -36,7 +36,6 @@ void BoardCornerMeasurementOptions::check() const {
   if (!(reanchor_orientation_sigma >= 0 && reanchor_orientation_sigma < 1))
     throw OptionError("reanchor_orientation_sigma", "must be in [0, 1)");
   if (border_px < 0 || border_px > 100) throw OptionError("border_px", "must be in [0, 100]");
-  exposure.check();
 }
 
 void BoardCornerMeasurementOptions::checkImage(cv::Size image) const {

@@ -46,7 +46,7 @@ struct BoardCornerMeasurementOptions {
   // frames: all posed as `board`, 54 corners each).
   double min_corner_contrast = 16;
   int search_interval = 5;           // while the board is not seen where predicted, a full search every this many frames
-  double reanchor_position_sigma = 0.02;     // m, added to the camera's when a found board disagrees with the filter
+  double reanchor_position_sigma = 0.02;     // m, its square added to the camera's variance when a found board disagrees with the filter
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
   int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
   CornerNoiseOptions noise;          // pixel_sigma estimated from the corners' scatter about the board plane
@@ -78,9 +78,10 @@ struct BoardCornerMeasurementOptions {
     v("search_interval", search_interval,
       "while the board is not where the filter predicts it, the whole image is searched every this many frames");
     v("reanchor_position_sigma", reanchor_position_sigma,
-      "m, added to the camera's std when a board found by a search disagrees with the filter (then it restarts)");
+      "m, its square added to the camera's position variance when a board found by a search disagrees with the "
+      "filter (then it restarts)");
     v("reanchor_orientation_sigma", reanchor_orientation_sigma,
-      "per quaternion component, added likewise");
+      "per quaternion component, its square added likewise");
     v("border_px", border_px, "corners predicted closer than this to the image border are not measured, pixels");
     v("noise", noise, "the corners' noise estimated from their scatter about the board plane");
     v("exposure", exposure, "the shift every corner of a motion-blurred frame shares while the camera accelerates");

@@ -101,11 +101,8 @@ bool HybridTracker::startFromCorners(const Frame& frame, const std::vector<cv::P
   // update it, so the start's covariance is the board's.
   const BoardPose board_pose = wholeBoardPose(*camera_, target_, uv, BoardPoseOptions{});
   const HybridStartOptions& s = options_.start;
-  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
-  P0.diagonal() << Vec3::Constant(s.position_sigma * s.position_sigma),
-      Vec4::Constant(s.orientation_sigma * s.orientation_sigma), Vec3::Constant(s.velocity_sigma * s.velocity_sigma),
-      Vec3::Constant(s.angular_velocity_sigma * s.angular_velocity_sigma);
-  slam_->reset(board_pose.T_camera_board.inverse(), P0);
+  slam_->reset(board_pose.T_camera_board.inverse(),
+               cameraCovariance(s.position_sigma, s.orientation_sigma, s.velocity_sigma, s.angular_velocity_sigma));
   corners_->restart();
   motion_->reset(slam_->state());
   *board = corners_->measureDetected(slam_->state(), frame.grey, uv);

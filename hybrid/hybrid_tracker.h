@@ -40,7 +40,7 @@ struct HybridStartOptions {
 };
 
 struct HybridOptions {
-  // Listed flat: motion, search, feature_init, map, health, reporting. The motion noise is
+  // Listed flat: motion, search, feature_init, inverse_depth, ransac, map, health, reporting. The motion noise is
   // estimated from the velocity corrections (ekf/adaptive_motion_noise.h), down to 0.5 m/s^2
   // and 1 rad/s^2: with the board's corners weighed as they scatter, the set 2 and 3 (a hand-held
   // camera's) leave search ellipses where the room's features match look-alikes once the board has

@@ -16,8 +16,6 @@ void TrackedMotionOptions::check() const {
   if (!(min_parallax_deg >= 0 && min_parallax_deg < 90)) throw OptionError("min_parallax_deg", "must be in [0, 90)");
   if (!(max_triangulation_px > 0)) throw OptionError("max_triangulation_px", "must be positive");
   if (points.max > tracks.max_features) throw OptionError("points.max", "must be at most tracks.max_features");
-  points.check();
-  tracks.check();
 }
 
 namespace {

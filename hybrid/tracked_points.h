@@ -62,7 +62,7 @@ class TrackedPoints {
   // (a track gone astray or a moving point: never started again). Returns how many were measured.
   int measure(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
                const std::vector<cv::Mat>& pyramid);
-  // New points on tracks that are none, while fewer than max_points are held. Returns their ids.
+  // New points on tracks that are none, while fewer than `max` are held. Returns their ids.
   std::vector<int> start(EkfState& state, TailLayout& tail, const std::vector<Feature>& features,
                          const std::vector<cv::Mat>& pyramid);
   bool holds(int track_id) const { return points_.count(track_id) > 0; }

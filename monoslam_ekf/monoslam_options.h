@@ -10,7 +10,7 @@
 namespace slamcmp {
 
 struct MonoslamOptions {
-  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, map, health, reporting
+  EkfSlamOptions filter;  // listed flat: motion, search, feature_init, inverse_depth, ransac, map, health, reporting
   StartOptions start;
   RelocalisationOptions relocalisation;
   ChessboardDetectorOptions board;

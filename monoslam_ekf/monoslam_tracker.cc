@@ -145,10 +145,7 @@ bool MonoslamTracker::start(const Frame& frame, std::string* reason) {
   const bool manual = init_ == InitSource::Manual && !ever_started_;
   const double sigma_r = manual ? s.manual_position_sigma : s.position_sigma;
   const double sigma_q = manual ? s.manual_orientation_sigma : s.orientation_sigma;
-  Eigen::Matrix<double, 13, 13> P0 = Eigen::Matrix<double, 13, 13>::Zero();
-  P0.diagonal() << Vec3::Constant(sigma_r * sigma_r), Vec4::Constant(sigma_q * sigma_q),
-      Vec3::Constant(sigma_v * sigma_v), Vec3::Constant(sigma_w * sigma_w);
-  slam_.reset(T_world_camera, P0);
+  slam_.reset(T_world_camera, cameraCovariance(sigma_r, sigma_q, sigma_v, sigma_w));
   slam_.state().x().segment<3>(EkfState::kV) = velocity.v_world;
   slam_.state().x().segment<3>(EkfState::kW) = velocity.w_camera;
 
@@ -201,10 +198,7 @@ bool MonoslamTracker::relocalise(const Frame& frame, FrameResult* result) {
   const RelocalisationOptions& ro = options_.relocalisation;
   // The motion after a loss is as unknown as the first one: its prior is set per frame interval
   // once the next frame gives the interval (setFirstMotionPrior).
-  Eigen::Matrix<double, 13, 13> P = Eigen::Matrix<double, 13, 13>::Zero();
-  P.diagonal().head<7>() << Vec3::Constant(ro.position_sigma * ro.position_sigma),
-      Vec4::Constant(ro.orientation_sigma * ro.orientation_sigma);
-  slam_.relocate(*T_world_camera, P, trusted_id_limit_);
+  slam_.relocate(*T_world_camera, cameraCovariance(ro.position_sigma, ro.orientation_sigma, 0, 0), trusted_id_limit_);
   if (two_view_) two_view_->forget();  // the orientation jumped
   unknown_first_motion_ = true;
   resumed(frame.timestamp);

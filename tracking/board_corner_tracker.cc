@@ -217,8 +217,8 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
   }
   if (static_cast<int>(kept.ids.size()) < minCorners()) return false;
   // The grid must still be a plane seen through the lens: a homography from the board to the
-  // undistorted corners fits them all. A corner it does not fit (one beside the edge of something
-  // hiding part of the board: the refinement is pulled off the corner) is dropped, the worst first.
+  // undistorted corners fits them all. The corners it does not fit (one beside the edge of something
+  // hiding part of the board: the refinement is pulled off the corner) are dropped, all at once.
   std::vector<Vec2> plane, undistorted;
   for (size_t k = 0; k < kept.ids.size(); ++k) {
     plane.push_back(gridOf(target_, kept.ids[k]));

@@ -136,7 +136,7 @@ class BoardCornerTracker {
 
  private:
   bool confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv, const CameraModel& camera) const;
-  // Refines `corners` (started at `start`), drops those the refinement moves too far, and checks
+  // Refines `corners` (from where they were given), drops those the refinement moves too far, and checks
   // the rest: enough of them, a plane seen through the lens, the squares' colours.
   bool confirmCorners(const cv::Mat& grey, BoardCorners* corners, const CameraModel& camera) const;
   // The corners of `corners` plus those their homography puts inside the image.
