@@ -193,13 +193,15 @@ void BM_CornerRefinement(benchmark::State& state, const std::string& set, const 
   }
 }
 
-// The back-end's per-frame board step: last frame's corners tracked by LK and confirmed.
+// The back-end's per-frame board step (findCorners) with the board in view: last frame's corners
+// tracked by LK and confirmed.
 void BM_BoardCornerTracking(benchmark::State& state, const std::string& set) {
   const StageData* d = dataOrSkip(state, set);
   if (!d) return;
   const auto fresh = [&] {
     auto t = std::make_unique<BoardCornerTracker>(d->target, cslamOptions().board);
-    t->find(d->b->frames[0].grey, {}, d->pyramids[0], lkWindow(), cslamOptions().lk_levels, &d->camera);
+    t->findCorners(d->b->frames[0].grey, {}, d->pyramids[0], lkWindow(), cslamOptions().lk_levels, d->camera, nullptr,
+                   true);
     return t;
   };
   std::unique_ptr<BoardCornerTracker> tracker = fresh();
@@ -212,9 +214,9 @@ void BM_BoardCornerTracking(benchmark::State& state, const std::string& set) {
       i = 1;
       state.ResumeTiming();
     }
-    const auto corners = tracker->find(d->b->frames[i].grey, d->pyramids[i - 1], d->pyramids[i], lkWindow(),
-                                       cslamOptions().lk_levels, &d->camera);
-    tracked += corners.has_value() && tracker->lastWasTracked();
+    const auto corners = tracker->findCorners(d->b->frames[i].grey, d->pyramids[i - 1], d->pyramids[i], lkWindow(),
+                                              cslamOptions().lk_levels, d->camera, nullptr, true);
+    tracked += corners.has_value() && tracker->lastFound() == BoardFound::Tracked;
     ++i;
   }
   state.counters["tracked"] = benchmark::Counter(static_cast<double>(tracked), benchmark::Counter::kAvgIterations);
@@ -265,7 +267,7 @@ void BM_BoardRegionSearchAbsent(benchmark::State& state, bool presence_test) {
   const SE3& T_predicted = d->T_world_camera[d->board_visible.front()];
   // The board seen first, as before any prediction in a run (the presence test learns from it).
   const cv::Mat& seen = d->b->frames[d->board_visible.front()].grey;
-  tracker.find(seen, {}, {}, lkWindow(), cslamOptions().lk_levels, &d->camera);
+  tracker.searchWholeBoard(seen);
   // One frame untimed: the first call after a board was found searches the whole image (220 ms,
   // once), which the region search timed here then never does; timed, it made the figure depend on
   // the iterations run (222 ms at one, 9 ms at 395).

@@ -120,7 +120,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
   // Every frame is searched: a view for the calibration is worth a search's cost, and after a miss
   // the tracker's interval skipped frames showing the whole board (video_chessboard 102, 103, 174, 175).
   board_.searchNextFrame();
-  const auto corners = board_.find(frame.grey, {}, {}, cv::Size(), 0, nullptr);
+  const auto corners = board_.searchWholeBoard(frame.grey);
   std::string refused;  // why a calibration tried on this frame was not used
   if (const auto calibrated = calibration_views_->add(frame.index, corners ? &*corners : nullptr, &refused)) {
     camera_ = calibrated->camera;

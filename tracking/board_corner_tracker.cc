@@ -136,26 +136,6 @@ double BoardCornerTracker::refineMarginPx(const BoardCorners& corners) const {
   return spacing < 1e29 ? refineHalfWindow(spacing, options_.detector) + 2.0 : 2.0;
 }
 
-bool BoardCornerTracker::confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv,
-                                 const CameraModel& camera) const {
-  const std::vector<cv::Point2f> tracked = uv;
-  refineChessboardCorners(grey, target_, uv, options_.detector, &camera);
-  for (size_t i = 0; i < uv.size(); ++i)
-    if (cv::norm(uv[i] - tracked[i]) > options_.max_refine_shift_px) return false;
-  // The grid must still be a plane seen through the lens: a homography from the board to the
-  // undistorted corners fits them all.
-  std::vector<Vec2> plane, undistorted;
-  for (int j = 0; j < target_.rows; ++j)
-    for (int i = 0; i < target_.cols; ++i) plane.emplace_back(i, j);
-  for (const auto& p : uv) undistorted.push_back(camera.undistortToPixel(Vec2(p.x, p.y)));
-  double sum = 0;
-  for (double e : homographyErrors(homographyDlt(plane, undistorted), plane, undistorted)) sum += e * e;
-  if (std::sqrt(sum / static_cast<double>(uv.size())) > options_.max_grid_error_px) return false;
-  // A whole-grid slip by one square keeps the grid consistent but swaps the square colours.
-  std::vector<cv::Point2f> ordered = uv;
-  return orderChessboardCorners(grey, target_, ordered) && ordered.front() == uv.front();
-}
-
 std::optional<std::pair<double, double>> BoardCornerTracker::squareMeans(const cv::Mat& grey,
                                                                          const BoardCorners& c) const {
   if (c.ids.size() < 4) return std::nullopt;
@@ -456,37 +436,12 @@ std::optional<BoardCorners> BoardCornerTracker::fullSearch(const cv::Mat& grey,
   return c;
 }
 
-std::optional<std::vector<cv::Point2f>> BoardCornerTracker::find(const cv::Mat& grey,
-                                                                 const std::vector<cv::Mat>& pyramid_prev,
-                                                                 const std::vector<cv::Mat>& pyramid,
-                                                                 cv::Size lk_window, int lk_levels,
-                                                                 const CameraModel* camera, bool allow_search,
-                                                                 const SE3* T_world_camera_last) {
-  last_tracked_ = false;
+std::optional<std::vector<cv::Point2f>> BoardCornerTracker::searchWholeBoard(const cv::Mat& grey) {
   last_searched_whole_ = false;
   last_found_ = BoardFound::None;
-  if (options_.track && camera && corners_.complete && !pyramid_prev.empty()) {
-    std::vector<cv::Point2f> uv;
-    std::vector<uchar> status;
-    // Coarse convergence is enough: the corners are refined to sub-pixel next.
-    cv::calcOpticalFlowPyrLK(pyramid_prev, pyramid, corners_.uv, uv, status, cv::noArray(), lk_window, lk_levels,
-                             kCoarseLk);
-    bool all = true;
-    for (size_t i = 0; i < uv.size() && all; ++i)
-      all = status[i] && uv[i].x >= 0 && uv[i].y >= 0 && uv[i].x <= grey.cols - 1 && uv[i].y <= grey.rows - 1;
-    if (all && confirm(grey, uv, *camera)) {
-      corners_.uv = uv;
-      rememberWholeBoard(grey, uv);
-      last_tracked_ = true;
-      last_found_ = BoardFound::Tracked;
-      return corners_.uv;
-    }
-  }
   corners_ = {};
-  if (!fullSearchDue(allow_search, false)) return std::nullopt;
-  std::vector<cv::Point2f> expected;
-  if (camera && T_world_camera_last) expected = projectBoardCorners(*camera, target_, *T_world_camera_last);
-  auto found = fullSearch(grey, expected, cv::Rect(0, 0, grey.cols, grey.rows));
+  if (!fullSearchDue(true, false)) return std::nullopt;
+  auto found = fullSearch(grey, {}, cv::Rect(0, 0, grey.cols, grey.rows));
   if (!found) return std::nullopt;
   corners_ = std::move(*found);
   frames_since_search_ = kNeverSearched;
@@ -500,13 +455,11 @@ std::optional<BoardCorners> BoardCornerTracker::findCorners(const cv::Mat& grey,
                                                             int lk_levels, const CameraModel& camera,
                                                             const SE3* T_world_camera_predicted, bool allow_search,
                                                             const std::vector<cv::Point2f>* uv_predicted) {
-  last_tracked_ = false;
   last_searched_whole_ = false;
   last_found_ = BoardFound::None;
   const auto accept = [&](BoardCorners c, BoardFound how) {
     corners_ = std::move(c);
     if (corners_.complete) rememberWholeBoard(grey, corners_.uv);
-    last_tracked_ = how == BoardFound::Tracked;
     last_found_ = how;
     frames_since_search_ = kNeverSearched;
     return corners_;

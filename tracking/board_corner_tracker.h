@@ -98,19 +98,13 @@ class BoardCornerTracker {
  public:
   BoardCornerTracker(const ChessboardTarget& target, const BoardCornerTrackerOptions& options);
 
-  // Corners (distorted pixels, SPEC section 2 order) in the current frame, or empty; the whole
-  // board only. With a camera and the previous frame's pyramid the corners are tracked first.
-  // `pyramid_*` come from cv::buildOpticalFlowPyramid with the given window and levels.
-  // allow_search = false skips the full search (e.g. the pose says the board is out of view).
-  // A symmetric board found by the full search takes the origin nearest where T_world_camera_last
-  // (the last posed frame's) puts its corners, else nearest the last corners seen
-  // (chooseSymmetricOrder); tracked corners keep their order.
-  std::optional<std::vector<cv::Point2f>> find(const cv::Mat& grey, const std::vector<cv::Mat>& pyramid_prev,
-                                               const std::vector<cv::Mat>& pyramid, cv::Size lk_window,
-                                               int lk_levels, const CameraModel* camera, bool allow_search = true,
-                                               const SE3* T_world_camera_last = nullptr);
+  // The whole board's corners (distorted pixels, SPEC section 2 order) by a search of the whole
+  // image, when the search schedule allows one (search_interval_when_lost frames after a miss;
+  // searchNextFrame() makes the next call search): self-calibration's views, whose camera is not
+  // known yet.
+  std::optional<std::vector<cv::Point2f>> searchWholeBoard(const cv::Mat& grey);
 
-  // As find, with partial boards (min_partial_corners) and the predicted search: the corners
+  // The per-frame board step, with partial boards (min_partial_corners) and the predicted search: the corners
   // tracked from the last frame (starting where they are predicted, when they are), then the
   // predicted corners found in the image, then (allow_search, at most every
   // search_interval_when_lost frames) the full search; with a prediction, the region around the
@@ -124,18 +118,14 @@ class BoardCornerTracker {
                                           const CameraModel& camera, const SE3* T_world_camera_predicted,
                                           bool allow_search, const std::vector<cv::Point2f>* uv_predicted = nullptr);
 
-  bool lastWasTracked() const { return last_tracked_; }
   // Whether the last call searched the whole image (else at most the predicted board's region).
   bool lastSearchedWholeImage() const { return last_searched_whole_; }
   BoardFound lastFound() const { return last_found_; }
-  // Forget the last corners (the next call searches).
-  void reset() { corners_ = {}; }
   // The next call searches the whole image whatever search_interval_when_lost says (a view worth
   // its cost, e.g. one for self-calibration).
   void searchNextFrame() { frames_since_search_ = kNeverSearched; }
 
  private:
-  bool confirm(const cv::Mat& grey, std::vector<cv::Point2f>& uv, const CameraModel& camera) const;
   // Refines `corners` (from where they were given), drops those the refinement moves too far, and checks
   // the rest: enough of them, a plane seen through the lens, the squares' colours.
   bool confirmCorners(const cv::Mat& grey, BoardCorners* corners, const CameraModel& camera) const;
@@ -183,7 +173,6 @@ class BoardCornerTracker {
   static constexpr int kNeverSearched = 1 << 20;
   int frames_since_search_ = kNeverSearched;  // since the last whole-image search, or the board seen
   bool last_searched_whole_ = false;
-  bool last_tracked_ = false;
   BoardFound last_found_ = BoardFound::None;
 };
 

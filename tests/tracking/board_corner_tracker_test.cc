@@ -74,28 +74,27 @@ TEST_F(BoardCornerTrackerTv1, FindsThenTracksTheBoardWhereTheTruePoseProjectsIt)
   for (int k = 0; k < kFrames; ++k) {
     const PosedFrame& frame = (*frames_)[k];
     const std::vector<cv::Mat> current = pyramid(frame.grey);
-    const auto corners = tracker.find(frame.grey, previous, current, kWindow, kLevels, camera_.get());
+    const auto corners = tracker.findCorners(frame.grey, previous, current, kWindow, kLevels, *camera_, nullptr, true);
     ASSERT_TRUE(corners.has_value()) << "frame " << k;
-    ASSERT_EQ(static_cast<int>(corners->size()), target_->numCorners()) << "frame " << k;
-    EXPECT_EQ(tracker.lastWasTracked(), k > 0) << "frame " << k;
-    EXPECT_LT(rmsToTruth(*corners, frame.T_world_camera), 0.3) << "frame " << k;
+    ASSERT_TRUE(corners->complete) << "frame " << k;
+    ASSERT_EQ(static_cast<int>(corners->uv.size()), target_->numCorners()) << "frame " << k;
+    EXPECT_EQ(tracker.lastFound(), k > 0 ? BoardFound::Tracked : BoardFound::Searched) << "frame " << k;
+    EXPECT_LT(rmsToTruth(corners->uv, frame.T_world_camera), 0.3) << "frame " << k;
     previous = current;
   }
 }
 
-// Without a camera the tracker cannot confirm tracked corners: every frame is a full search,
-// still within 0.3 px RMS of the truth.
+// Without a camera (self-calibration's views) every frame is a search of the whole image, still
+// within 0.3 px RMS of the truth.
 TEST_F(BoardCornerTrackerTv1, WithoutACameraEveryFrameIsAFullSearch) {
   BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
-  std::vector<cv::Mat> previous;
   for (int k = 0; k < 3; ++k) {
     const PosedFrame& frame = (*frames_)[k];
-    const std::vector<cv::Mat> current = pyramid(frame.grey);
-    const auto corners = tracker.find(frame.grey, previous, current, kWindow, kLevels, nullptr);
+    const auto corners = tracker.searchWholeBoard(frame.grey);
     ASSERT_TRUE(corners.has_value()) << "frame " << k;
-    EXPECT_FALSE(tracker.lastWasTracked()) << "frame " << k;
+    EXPECT_EQ(tracker.lastFound(), BoardFound::Searched) << "frame " << k;
+    EXPECT_TRUE(tracker.lastSearchedWholeImage()) << "frame " << k;
     EXPECT_LT(rmsToTruth(*corners, frame.T_world_camera), 0.3) << "frame " << k;
-    previous = current;
   }
 }
 
@@ -106,14 +105,15 @@ TEST_F(BoardCornerTrackerTv1, FrameWithoutTheBoardHasNone) {
   const cv::Mat no_board = texture.image((*frames_)[0].grey.size());
 
   BoardCornerTracker fresh(*target_, BoardCornerTrackerOptions{});
-  EXPECT_FALSE(fresh.find(no_board, {}, pyramid(no_board), kWindow, kLevels, camera_.get()).has_value());
-  EXPECT_FALSE(fresh.lastWasTracked());
+  EXPECT_FALSE(fresh.searchWholeBoard(no_board).has_value());
+  EXPECT_EQ(fresh.lastFound(), BoardFound::None);
 
   BoardCornerTracker tracker(*target_, BoardCornerTrackerOptions{});
   const std::vector<cv::Mat> first = pyramid((*frames_)[0].grey);
-  ASSERT_TRUE(tracker.find((*frames_)[0].grey, {}, first, kWindow, kLevels, camera_.get()).has_value());
-  EXPECT_FALSE(tracker.find(no_board, first, pyramid(no_board), kWindow, kLevels, camera_.get()).has_value());
-  EXPECT_FALSE(tracker.lastWasTracked());
+  ASSERT_TRUE(tracker.findCorners((*frames_)[0].grey, {}, first, kWindow, kLevels, *camera_, nullptr, true).has_value());
+  EXPECT_FALSE(
+      tracker.findCorners(no_board, first, pyramid(no_board), kWindow, kLevels, *camera_, nullptr, true).has_value());
+  EXPECT_EQ(tracker.lastFound(), BoardFound::None);
 }
 
 // The corners predicted 25 px off (beyond the predicted search's reach: under half a square),
