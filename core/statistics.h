@@ -19,4 +19,10 @@ Statistics computeStatistics(std::vector<double> values);
 // The median as Statistics defines it; NaN for an empty sample.
 double median(std::vector<double> values);
 
+// The chi-squared distribution's quantile for `dof` degrees of freedom at `probability`: Wilson
+// and Hilferty's cube of a normal quantile (Acklam's, relative error under 1.2e-9). Within 1 % of
+// the exact value for dof >= 2 and probabilities 0.9 to 0.999, within 0.1 % from 30 dof up: the
+// filters' gates and the NEES bounds.
+double chiSquaredQuantile(double dof, double probability);
+
 }  // namespace slamcmp

@@ -6,7 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
-#include "ekf/joint_compatibility.h"
+#include "core/statistics.h"
 
 namespace slamcmp {
 

@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "core/image.h"
+#include "core/statistics.h"
 #include "ekf/ekf_update.h"
 #include "ekf/inverse_depth.h"
 #include "ekf/joint_compatibility.h"

@@ -12,10 +12,6 @@
 
 namespace slamcmp {
 
-// The chi-squared quantile for `dof` degrees of freedom at `probability` (Wilson-Hilferty; within
-// 1 % of the exact value for dof >= 2 and probabilities 0.9 to 0.999).
-double chiSquaredQuantile(int dof, double probability);
-
 // predicted[i]: feature i's predicted pixel; S: the joint innovation covariance of all features
 // (2m x 2m, feature i at rows 2i, 2i+1); candidates[i]: its candidate pixels (each must also pass
 // the test alone, chi2 of 2 dof). Returns, for each

@@ -6,9 +6,9 @@
 
 #include <Eigen/QR>
 
+#include "core/statistics.h"
 #include "ekf/data_snooping.h"
 #include "ekf/ekf_update.h"
-#include "ekf/joint_compatibility.h"
 #include "ekf/measurement_model.h"
 
 namespace slamcmp {

@@ -7,7 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
-#include "ekf/joint_compatibility.h"
+#include "core/statistics.h"
 
 namespace slamcmp {
 

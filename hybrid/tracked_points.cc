@@ -6,9 +6,9 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "core/error.h"
+#include "core/statistics.h"
 #include "ekf/ekf_update.h"
 #include "ekf/inverse_depth.h"
-#include "ekf/joint_compatibility.h"
 #include "ekf/rolling_shutter.h"
 
 namespace slamcmp {

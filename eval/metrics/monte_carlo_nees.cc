@@ -3,6 +3,8 @@
 #include <cmath>
 #include <map>
 
+#include "core/statistics.h"
+
 namespace slamcmp {
 
 std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<TimedNees>>& runs, int dof) {
@@ -26,7 +28,7 @@ std::optional<MonteCarloNees> monteCarloNees(const std::vector<std::vector<Timed
   for (const auto& [microseconds, step] : steps) {
     if (step.trials < 2) continue;
     const double m = step.trials, anees = step.sum / m;
-    const double lower = chiSquareQuantile(0.025, dof * m) / m, upper = chiSquareQuantile(0.975, dof * m) / m;
+    const double lower = chiSquaredQuantile(dof * m, 0.025) / m, upper = chiSquaredQuantile(dof * m, 0.975) / m;
     out.timestamps.push_back(static_cast<double>(microseconds) * 1e-6);
     out.anees.push_back(anees);
     out.lower.push_back(lower);

@@ -8,42 +8,11 @@
 #include <Eigen/Cholesky>
 
 #include "core/error.h"
+#include "core/statistics.h"
 #include "core/text_file.h"
 #include "eval/metrics/associate.h"
 
 namespace slamcmp {
-
-namespace {
-
-// The standard normal quantile (Acklam's rational approximation, relative error under 1.2e-9).
-double normalQuantile(double p) {
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
-                             1.383577518672690e+02, -3.066479806614716e+01, 2.506628277459239e+00};
-  static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01, -1.328068155288572e+01};
-  static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
-                             -2.549732539343734e+00, 4.374664141464968e+00, 2.938163982698783e+00};
-  static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
-                             3.754408661907416e+00};
-  const double low = 0.02425;
-  if (p < low) {
-    const double q = std::sqrt(-2 * std::log(p));
-    return (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
-           ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
-  }
-  if (p > 1 - low) return -normalQuantile(1 - p);
-  const double q = p - 0.5, r = q * q;
-  return (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
-         (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
-}
-
-}  // namespace
-
-double chiSquareQuantile(double probability, double dof) {
-  const double h = 2.0 / (9.0 * dof);
-  const double x = 1.0 - h + normalQuantile(probability) * std::sqrt(h);
-  return dof * x * x * x;
-}
 
 std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vector<CovariantPose>& estimate,
                                    double max_diff, const Similarity3& fitted, bool gauge_at_first) {
@@ -93,8 +62,8 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
   const int n = r.frames();
   if (n == 0) return std::nullopt;
   const auto bounded = [n](double sum_of_nees, int dof) {
-    return NeesMean{sum_of_nees / n, dof, chiSquareQuantile(0.025, 1.0 * dof * n) / n,
-                    chiSquareQuantile(0.975, 1.0 * dof * n) / n};
+    return NeesMean{sum_of_nees / n, dof, chiSquaredQuantile(1.0 * dof * n, 0.025) / n,
+                    chiSquaredQuantile(1.0 * dof * n, 0.975) / n};
   };
   static_cast<NeesMean&>(r) = bounded(sum, 6);
   r.position = bounded(position_sum, 3);

@@ -63,9 +63,6 @@ std::optional<NeesResult> poseNees(const Trajectory& groundtruth, const std::vec
                                    double max_diff, const Similarity3& T_gt_estimate = Similarity3(),
                                    bool gauge_at_first = false);
 
-// The chi-square quantile (Wilson and Hilferty's approximation, within 0.1 % from 30 dof up).
-double chiSquareQuantile(double probability, double dof);
-
 nlohmann::json neesToJson(const NeesResult& nees);
 
 // nees.csv: `timestamp,nees,position,orientation`, a row a scored pose (the 6-dof NEES, what

@@ -46,5 +46,15 @@ TEST(Statistics, MedianAloneAgreesAndEmptyHasNone) {
     EXPECT_TRUE(std::isnan(v));
 }
 
+// Against the exact quantiles (scipy.stats.chi2.ppf): the filters' gates and the NEES bounds.
+TEST(Statistics, ChiSquaredQuantiles) {
+  EXPECT_NEAR(chiSquaredQuantile(2, 0.99), 9.2103, 0.01 * 9.2103);
+  EXPECT_NEAR(chiSquaredQuantile(10, 0.99), 23.209, 0.01 * 23.209);
+  EXPECT_NEAR(chiSquaredQuantile(24, 0.999), 51.179, 0.01 * 51.179);
+  EXPECT_NEAR(chiSquaredQuantile(4, 0.95), 9.4877, 0.01 * 9.4877);
+  EXPECT_NEAR(chiSquaredQuantile(1000, 0.025), 914.257, 0.001 * 914.257);  // a run's NEES bounds
+  EXPECT_NEAR(chiSquaredQuantile(1000, 0.975), 1089.531, 0.001 * 1089.531);
+}
+
 }  // namespace
 }  // namespace slamcmp

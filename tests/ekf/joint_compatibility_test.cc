@@ -5,13 +5,6 @@
 namespace slamcmp {
 namespace {
 
-TEST(JointCompatibility, ChiSquaredQuantiles) {
-  EXPECT_NEAR(chiSquaredQuantile(2, 0.99), 9.2103, 0.01 * 9.2103);
-  EXPECT_NEAR(chiSquaredQuantile(10, 0.99), 23.209, 0.01 * 23.209);
-  EXPECT_NEAR(chiSquaredQuantile(24, 0.999), 51.179, 0.01 * 51.179);
-  EXPECT_NEAR(chiSquaredQuantile(4, 0.95), 9.4877, 0.01 * 9.4877);
-}
-
 // Four board corners predicted with a large, strongly correlated uncertainty (the camera pose is
 // the uncertain part): each sees its true corner and neighbours one square (50 px) away. The
 // true corners are 3 px from the predictions, all shifted the same way.

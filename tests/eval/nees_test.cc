@@ -8,6 +8,8 @@
 #include <Eigen/Cholesky>
 #include <gtest/gtest.h>
 
+#include "core/statistics.h"
+
 namespace slamcmp {
 namespace {
 
@@ -91,7 +93,7 @@ TEST(Nees, ErrorsDrawnFromTheCovarianceAverageTheDof) {
     EXPECT_GT(part.mean, part.lower);
     EXPECT_LT(part.mean, part.upper);
   }
-  EXPECT_NEAR(nees->position.lower, chiSquareQuantile(0.025, 3000) / 1000, 1e-12);
+  EXPECT_NEAR(nees->position.lower, chiSquaredQuantile(3000, 0.025) / 1000, 1e-12);
 }
 
 // The parts say which half is off: an orientation error beyond its covariance (a shared bias of
