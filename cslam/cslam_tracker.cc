@@ -78,10 +78,7 @@ CslamTracker::CslamTracker(std::optional<CameraModel> camera, const ChessboardTa
 nlohmann::json CslamTracker::options() const {
   nlohmann::json j = optionsToJson(options_);
   j["mode"] = mode_name_;
-  if (calibration_rms_px_) {
-    j["self_calibration"] = {{"fx", camera_->fx}, {"fy", camera_->fy}, {"cx", camera_->cx},
-                             {"cy", camera_->cy}, {"rms_px", *calibration_rms_px_}};
-  }
+  if (calibration_rms_px_) j["self_calibration"] = selfCalibrationJson(*camera_, *calibration_rms_px_);
   return j;
 }
 
@@ -132,8 +129,7 @@ bool CslamTracker::gatherCalibrationViews(const Frame& frame, FrameResult* resul
     return true;
   }
   result->status = TrackStatus::Initialising;
-  result->reason = "gathering board views for self-calibration (" + calibration_views_->progress() + ")" +
-                   (refused.empty() ? "" : "; " + refused);
+  result->reason = calibration_views_->gatheringReason(refused);
   return false;
 }
 

@@ -45,9 +45,7 @@ void HybridTracker::startFilter(const CameraModel& camera) {
 
 nlohmann::json HybridTracker::options() const {
   nlohmann::json j = optionsToJson(options_);
-  if (calibration_rms_px_)
-    j["self_calibration"] = {{"fx", camera_->fx}, {"fy", camera_->fy}, {"cx", camera_->cx},
-                             {"cy", camera_->cy}, {"rms_px", *calibration_rms_px_}};
+  if (calibration_rms_px_) j["self_calibration"] = selfCalibrationJson(*camera_, *calibration_rms_px_);
   return j;
 }
 
@@ -76,8 +74,7 @@ bool HybridTracker::calibrate(const Frame& frame, FrameResult* result) {
     return true;
   }
   result->status = TrackStatus::Initialising;
-  result->reason = "gathering self-calibration views (" + calibration_views_->progress() + ")" +
-                   (refused.empty() ? "" : "; " + refused);
+  result->reason = calibration_views_->gatheringReason(refused);
   return false;
 }
 

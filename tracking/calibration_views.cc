@@ -38,8 +38,13 @@ std::vector<LatePose> CalibrationViews::latePoses(const CameraModel& camera, int
   return late;
 }
 
-std::string CalibrationViews::progress() const {
-  return std::to_string(calibrator_.numViews()) + " of " + std::to_string(options_.min_views);
+std::string CalibrationViews::gatheringReason(const std::string& refused) const {
+  return "gathering board views for self-calibration (" + std::to_string(calibrator_.numViews()) + " of " +
+         std::to_string(options_.min_views) + ")" + (refused.empty() ? "" : "; " + refused);
+}
+
+nlohmann::json selfCalibrationJson(const CameraModel& camera, double rms_px) {
+  return {{"fx", camera.fx}, {"fy", camera.fy}, {"cx", camera.cx}, {"cy", camera.cy}, {"rms_px", rms_px}};
 }
 
 }  // namespace slamcmp

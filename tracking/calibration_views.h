@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include "core/self_calibration.h"
@@ -33,8 +34,8 @@ class CalibrationViews {
   // corners with `camera` (the gathered frames are then forgotten).
   std::vector<LatePose> latePoses(const CameraModel& camera, int frame_index);
 
-  // "N of M" views so far, for a frame's reason.
-  std::string progress() const;
+  // A gathering frame's reason: the views so far, and why a calibration tried on it was refused.
+  std::string gatheringReason(const std::string& refused) const;
   // Why a run ended uncalibrated.
   std::string whyNotCalibrated() const { return calibrator_.whyNotCalibrated(); }
 
@@ -51,5 +52,8 @@ class CalibrationViews {
   std::deque<Gathered> gathered_;
   std::vector<cv::Point2f> last_uv_;  // the last view's corners: a symmetric board's origin follows them
 };
+
+// summary.json's `self_calibration`, for the back-ends that calibrate themselves.
+nlohmann::json selfCalibrationJson(const CameraModel& camera, double rms_px);
 
 }  // namespace slamcmp
