@@ -141,6 +141,15 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
 
 std::string absoluteDir(const std::string& dir) { return fs::absolute(dir).lexically_normal().string(); }
 
+// A path the plan wrote inside its own folder (a trial's render, a sequence rendered there), in the
+// folder it is collected from: one moved, or copied back from a cluster's scratch.
+std::string inCollectedFolder(const std::string& path, const Plan& plan, const std::string& dir) {
+  if (plan.dir.empty() || fs::path(plan.dir) == fs::path(dir)) return path;
+  const fs::path relative = fs::path(path).lexically_relative(plan.dir);
+  if (relative.empty() || *relative.begin() == "..") return path;
+  return (fs::path(dir) / relative).string();
+}
+
 }  // namespace
 
 size_t planCompare(const CompareOptions& options) {
@@ -164,13 +173,14 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
   }
   const Plan plan = planFromJson(j, plan_path);
   std::vector<SequenceInfo> seqs;
-  for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(path));
+  for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(inCollectedFolder(path, plan, dir)));
   std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene
   std::vector<RunResult> runs;
   std::vector<UnfinishedRun> not_finished;
   for (const PlannedRun& planned : plan.runs) {
-    auto it = trial_seqs.find(planned.sequence_path);
-    if (it == trial_seqs.end()) it = trial_seqs.emplace(planned.sequence_path, readSequenceInfo(planned.sequence_path)).first;
+    const std::string sequence_path = inCollectedFolder(planned.sequence_path, plan, dir);
+    auto it = trial_seqs.find(sequence_path);
+    if (it == trial_seqs.end()) it = trial_seqs.emplace(sequence_path, readSequenceInfo(sequence_path)).first;
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }

@@ -228,6 +228,7 @@ Plan makePlan(const CompareOptions& options) {
     plan.swept_keys.push_back(sweeps.back().key);
   }
   const fs::path dir = fs::absolute(options.out_dir).lexically_normal();
+  plan.dir = dir.string();
   std::vector<SequenceInfo> infos;
   for (const std::string& path : options.sequences) {
     SequenceInfo info = readSequenceInfo(path);

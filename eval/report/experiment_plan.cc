@@ -58,6 +58,7 @@ nlohmann::json planToJson(const Plan& plan) {
           {"configs", plan.configs},
           {"trials", plan.trials},
           {"max_frames", plan.max_frames},
+          {"dir", plan.dir},
           {"runs", runs}};
 }
 
@@ -82,6 +83,7 @@ Plan planFromJson(const nlohmann::json& j, const std::string& where) {
     plan.configs = j.value("configs", std::vector<std::string>{});  // plans written before --config
     plan.trials = j.at("trials").get<int>();
     plan.max_frames = j.at("max_frames").get<int>();
+    plan.dir = j.value("dir", "");  // plans written before it
     for (const auto& r : j.at("runs")) {
       PlannedRun run;
       run.sequence = r.at("sequence").get<size_t>();

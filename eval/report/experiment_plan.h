@@ -34,6 +34,9 @@ struct Plan {
   int trials = 1;
   int max_frames = -1;                      // per run; < 0: all
   std::vector<PlannedRun> runs;             // sequence-major, then method, then trial
+  // The folder the plan was written into (absolute): trial renders inside it are found again in
+  // a folder moved or copied back from a cluster's scratch (a plan written before this field: "").
+  std::string dir;
 };
 
 nlohmann::json planToJson(const Plan& plan);

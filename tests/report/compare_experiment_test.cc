@@ -414,6 +414,26 @@ TEST(CompareExperiment, RendersDifferingInTheirSeedAloneAreSaidToShareTheirTrial
   EXPECT_EQ(testing::internal::GetCapturedStderr().find("warning"), std::string::npos);
 }
 
+// A compare's folder moved (or copied back from a cluster's scratch) is collected where it is now:
+// its trial renders are found inside it (collect looked for them at the old path: "does not exist").
+TEST(CompareExperiment, AMovedFolderIsCollectedWhereItIs) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 8);
+  CompareOptions options = shortCompare(seq, "cslam", tmp.file("a"));
+  options.trials = 2;  // trial 2 rendered into a/sequences/seed2
+  runCompare(options);
+  const std::string before = readFile(tmp.file("a/results.csv"));
+  ASSERT_TRUE(fs::exists(tmp.file("a/sequences/seed2/tv1")));
+  fs::rename(tmp.file("a"), tmp.file("b"));
+  collectCompare(tmp.file("b"));
+  const auto rows = readResults(tmp.file("b/results.csv"));
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) EXPECT_EQ(row.at("status"), "ok") << row.at("error");
+  EXPECT_EQ(readFile(tmp.file("b/results.csv")), before);
+  EXPECT_FALSE(fs::exists(tmp.file("a")));
+}
+
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
 // more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
 TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
