@@ -243,6 +243,10 @@ nlohmann::json runSequence(const RunRequest& request) {
       if (const auto errors = evaluateRun(*seq.groundtruth, estimate, scale_free ? "sim3" : "none")) {
         extra["ate"] = errors->json["ate"];
         extra["rpe"] = errors->json["rpe"];
+        // As `eval --json` says them: the poses scored and how they were aligned ("none": in the
+        // board's world as given).
+        extra["matched"] = errors->json["matched"];
+        extra["alignment"] = errors->json["align"];
         T_gt_estimate = errors->T_gt_estimate;
         if (scale_free) {
           extra["scale"] = T_gt_estimate.scale;

@@ -281,7 +281,7 @@ TEST_P(BackendRunContract, ShortRunWritesValidFiles) {
   const std::vector<FrameRow> rows = readFramesCsv(out_dir + "/frames.csv");
   ASSERT_EQ(static_cast<int>(rows.size()), kFrames);
   std::vector<const FrameRow*> tracked_rows;
-  int lost = 0;
+  int lost = 0, initialising = 0, first_lost = -1;
   for (int i = 0; i < kFrames; ++i) {
     const FrameRow& row = rows[i];
     EXPECT_EQ(row.frame, i);
@@ -290,7 +290,10 @@ TEST_P(BackendRunContract, ShortRunWritesValidFiles) {
       tracked_rows.push_back(&row);
     } else {
       EXPECT_TRUE(row.source.empty()) << "frame " << i;
+      EXPECT_FALSE(row.reason.empty()) << "frame " << i << ": not posed, and no reason";
       lost += row.status == TrackStatus::Lost;
+      initialising += row.status == TrackStatus::Initialising;
+      if (row.status == TrackStatus::Lost && first_lost < 0) first_lost = i;
     }
   }
   ASSERT_FALSE(tracked_rows.empty()) << "nothing posed on tv1";
@@ -312,6 +315,11 @@ TEST_P(BackendRunContract, ShortRunWritesValidFiles) {
   EXPECT_EQ(summary.at("frames"), kFrames);
   EXPECT_EQ(summary.at("tracked"), static_cast<int>(tracked_rows.size()));
   EXPECT_EQ(summary.at("lost"), lost);
+  EXPECT_EQ(summary.at("initialising"), initialising);
+  EXPECT_EQ(summary.at("first_lost_frame"), first_lost < 0 ? nlohmann::json() : nlohmann::json(first_lost));
+  // Scored against tv1's ground truth as `eval --json` says it: every posed frame, aligned or not.
+  EXPECT_EQ(summary.at("matched"), static_cast<int>(tracked_rows.size()));
+  EXPECT_TRUE(summary.at("alignment") == "none" || summary.at("alignment") == "sim3") << summary.at("alignment");
 
   const std::vector<MapPoint> map = readMapPly(out_dir + "/map.ply");
   for (const MapPoint& p : map) EXPECT_TRUE(p.p_world.allFinite()) << "point " << p.id;
