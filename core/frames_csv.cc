@@ -73,7 +73,8 @@ std::vector<FrameRow> readFramesCsv(const std::string& path) {
   std::ifstream in = openTextFile(path);  // a folder would have the wrong header
   std::string line;
   if (!std::getline(in, line) || line.rfind(kNumberedColumns, 0) != 0)
-    throw InputError(atLine(path, 1), std::string("header must be '") + framesCsvHeader() + "'");
+    throw InputError(atLine(path, 1), std::string("header must be '") + framesCsvHeader() + "' (or, written before " +
+                                          "the reason column, '" + kNumberedColumns + "')");
   std::vector<FrameRow> rows;
   int n = 1;
   while (std::getline(in, line)) {

@@ -606,7 +606,8 @@ FrameResult CslamTracker::track(const Frame& frame) {
   if (T_world_camera) last_posed_centre_ = T_world_camera->t();
   last_pose_ = T_world_camera;
   if (!T_world_camera) {
-    result.status = TrackStatus::Lost;
+    // Before the board first set the world frame the run is waiting to start, not lost.
+    result.status = posed_frames_ == 0 ? TrackStatus::Initialising : TrackStatus::Lost;
     // Two-view chaining broke: the board, when it comes back, starts the chain again.
     if (mode_ == Mode::TwoView) two_view_board_phase_ = true;
   }

@@ -85,8 +85,9 @@ std::string lastLogLine(const std::string& path) {
   return last;
 }
 
-// One planned run read back: finished (ok), interrupted (summary.json says so), failed (its log's
-// last line) or not run (no log).
+// One planned run read back: finished (ok), interrupted (summary.json or its log says so), failed
+// (its log's last line), unfinished (a log and no more: running, or killed without a word) or not
+// run (no log).
 RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::string& dir, const SequenceInfo& seq) {
   const Method& method = plan.methods[planned.method];
   const std::string run_dir = (fs::path(dir) / planned.dir).string();
@@ -112,8 +113,10 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
       const std::string last = lastLogLine((fs::path(dir) / planned.log).string());
       const std::string error_prefix = "slamcmp: ";
       if (last.compare(0, error_prefix.size(), error_prefix) == 0) {
-        r.status = "failed";
         r.error = last.substr(error_prefix.size());
+        // Stopped by Ctrl-C or SIGTERM before it wrote its outputs (while reading its image list).
+        const bool stopped = r.error.rfind("interrupted", 0) == 0 || r.error.find(": interrupted while") != std::string::npos;
+        r.status = stopped ? "interrupted" : "failed";
       } else if (last.rfind(kStoppedByCompare, 0) == 0) {
         r.status = "interrupted";
         r.error = last;

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/run_files.h"
 #include "core/text_file.h"
 #include "core/yaml.h"
 #include "datasets/synth_sequence.h"
@@ -354,7 +355,11 @@ Plan makePlan(const CompareOptions& options) {
         if (seed_kind == "backend") run.argv.insert(run.argv.end(), {"--seed", std::to_string(trial)});
         if (!run.config.empty()) run.argv.insert(run.argv.end(), {"--config", run.config});
         for (const std::string& set : run.sets) run.argv.insert(run.argv.end(), {"--set", set});
-        fs::remove_all(dir / run.dir, ec);  // a previous plan's outputs are not this run's
+        // An earlier compare's runs are gone (removeEarlierExperiment): a folder of this name is a
+        // user's (a standalone `slamcmp run`'s default runs/SEQ-BACKEND), not compare's to replace.
+        if (fs::exists(dir / run.dir, ec))
+          throw InputError((dir / run.dir).string(), "holds a run no earlier compare planned (a standalone `slamcmp "
+                                                     "run`'s?): compare would replace it; move it, or give another --out");
         fs::remove(dir / run.log, ec);
         plan.runs.push_back(std::move(run));
       }
@@ -366,7 +371,13 @@ Plan makePlan(const CompareOptions& options) {
 std::string jobLine(const PlannedRun& run, const std::string& dir) {
   std::string line;
   for (const std::string& a : run.argv) line += (line.empty() ? "" : " ") + shellQuoted(a);
-  return line + " > " + shellQuoted((fs::path(dir) / run.log).string()) + " 2>&1";
+  const std::string log = shellQuoted((fs::path(dir) / run.log).string());
+  const std::string summary = shellQuoted((fs::path(dir) / run.dir / run_files::kSummary).string());
+  // A run that died on a signal (a crash on a node) ends its log saying so, as compare's own runner
+  // does, unless it said why itself: collect calls a log without either still running.
+  return line + " > " + log + " 2>&1 || { s=$?; if [ \"$s\" -gt 128 ] && [ ! -e " + summary + " ] && ! tail -n 1 " +
+         log + " | grep -q '^slamcmp: '; then echo \"slamcmp: the run ended on signal $((s - 128))\" >> " + log +
+         "; fi; exit \"$s\"; }";
 }
 
 void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks) {
@@ -398,7 +409,7 @@ void writePlanFiles(const Plan& plan, const std::string& dir, int array_tasks) {
          // Slurm splits a directive at spaces unless the value is in double quotes.
          << "#SBATCH --output=\"" << log_dir << "/slurm-%A_%a.out\"\n"
          // A wider --array than written would run some lines twice, at once, into the same folders.
-         << "if [ \"${SLURM_ARRAY_TASK_ID:-1}\" -gt " << tasks << " ]; then\n"
+         << "if [ \"${SLURM_ARRAY_TASK_ID:-1}\" -lt 1 ] || [ \"${SLURM_ARRAY_TASK_ID:-1}\" -gt " << tasks << " ]; then\n"
          << "  echo \"slurm.sbatch: task ${SLURM_ARRAY_TASK_ID} of an array written for 1-" << tasks
          << " (compare --plan --array-tasks)\" >&2\n"
          << "  exit 2\n"

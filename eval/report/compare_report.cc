@@ -234,7 +234,9 @@ std::vector<std::string> linkedFigures(const std::string& out_dir) {
     const size_t open = line.find("](figures/");
     if (line.rfind("![", 0) != 0 || open == std::string::npos || line.back() != ')') continue;
     const fs::path figure = line.substr(open + 2, line.size() - open - 3);
-    if (figure.filename() == figure.relative_path().lexically_relative("figures") && !figure.has_root_path())
+    const std::string name = figure.filename().string();
+    if (name != "." && name != ".." && figure.filename() == figure.relative_path().lexically_relative("figures") &&
+        !figure.has_root_path())
       figures.push_back(figure.string());
   }
   return figures;

@@ -51,7 +51,7 @@ struct RunResult {
   std::string dir;
   int trial = 1;
   const SequenceInfo* sequence = nullptr;  // the trial's sequence (its own ground truth and scene)
-  std::string status = "ok";  // ok | failed | interrupted | not run
+  std::string status = "ok";  // ok | failed | interrupted | unfinished | not run
   std::string error;          // why it did not finish (the run's last message, or what stopped it), if said
   nlohmann::json summary;
   std::vector<FrameRow> frames;

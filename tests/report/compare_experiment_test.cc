@@ -23,6 +23,7 @@
 #include "core/target.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/compare.h"
+#include "eval/app/compare_plan.h"
 #include "tests/test_util.h"
 
 namespace fs = std::filesystem;
@@ -282,6 +283,34 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
   }
   runCompare(options);  // the same experiment again, and its collect
   for (const std::string& file : users) EXPECT_TRUE(fs::exists(tmp.file(file))) << file;
+  // A standalone run in the folder compare's own run would take is refused, not replaced.
+  {
+    TempDir other;
+    fs::create_directories(other.file("o/runs/tv1-cslam"));
+    test::writeText(other.file("o/runs/tv1-cslam/summary.json"), "the user's\n");
+    CompareOptions into = shortCompare(seq, "cslam", other.file("o"));
+    EXPECT_THROW(planCompare(into), InputError);
+    EXPECT_TRUE(fs::exists(other.file("o/runs/tv1-cslam/summary.json")));
+  }
+  // A report.md or plan.json edited to point outside compare's folders removes nothing there.
+  test::writeText(tmp.file("c/outside.txt"), "the user's\n");
+  {
+    std::ofstream report(tmp.file("c/report.md"), std::ios::app);
+    report << "![x](figures/../outside.txt)\n![y](figures/..)\n";
+  }
+  const std::string valid_plan = readFile(tmp.file("c/plan.json"));
+  std::string plan_text = valid_plan;
+  const size_t log = plan_text.find("\"log\": \"") + 8;
+  ASSERT_NE(log, std::string::npos + 8);
+  plan_text.replace(log, plan_text.find('"', log) - log, "logs/../outside.txt");
+  test::writeText(tmp.file("c/plan.json"), plan_text);
+  runCompare(options);
+  EXPECT_TRUE(fs::exists(tmp.file("c/outside.txt")));
+  for (const std::string& file : users) EXPECT_TRUE(fs::exists(tmp.file(file))) << file;
+  test::writeText(tmp.file("c/plan.json"), "{\"not\": \"a plan\"}\n");
+  EXPECT_THROW(runCompare(options), InputError);  // not an earlier compare's: nothing removed
+  EXPECT_TRUE(fs::exists(tmp.file("c/results.csv")));
+  test::writeText(tmp.file("c/plan.json"), valid_plan);
 
   // A plan into the folder: the earlier experiment's report and tables go with its runs.
   CompareOptions plan_only = shortCompare(seq, "cslam", tmp.file("c"));
@@ -382,6 +411,18 @@ TEST(CompareExperiment, RunningRunsAreUnfinishedAndACrashSaysItsSignal) {
   CompareOptions crashing = shortCompare(seq, "cslam", tmp.file("c"));
   crashing.slamcmp = crash;
   runCompare(crashing, &unfinished);
+  ASSERT_EQ(unfinished.size(), 1u);
+  EXPECT_EQ(unfinished[0].status, "failed");
+  EXPECT_NE(unfinished[0].error.find("ended on signal 9"), std::string::npos) << unfinished[0].error;
+
+  // The same through jobs.txt, as GNU parallel and slurm.sbatch run its lines: the line notes it.
+  CompareOptions planned = shortCompare(seq, "cslam", tmp.file("j"));
+  planned.slamcmp = crash;
+  planCompare(planned);
+  const std::vector<std::string> jobs = test::readLines(tmp.file("j/jobs.txt"));
+  ASSERT_EQ(jobs.size(), 1u);
+  EXPECT_NE(std::system(("/bin/sh -c " + shellQuoted(jobs[0])).c_str()), 0);
+  collectCompare(tmp.file("j"), &unfinished);
   ASSERT_EQ(unfinished.size(), 1u);
   EXPECT_EQ(unfinished[0].status, "failed");
   EXPECT_NE(unfinished[0].error.find("ended on signal 9"), std::string::npos) << unfinished[0].error;
