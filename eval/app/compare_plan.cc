@@ -125,6 +125,16 @@ void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>
     if (run.contains("log") && isOwnEntry(run["log"], "logs")) fs::remove(dir / run["log"].get<std::string>(), ec);
   }
   for (const std::string& figure : linkedFigures(dir.string())) fs::remove(dir / figure, ec);
+  // Its Slurm tasks' logs (slurm.sbatch's --output: slurm-JOB_TASK.out).
+  std::vector<fs::path> slurm_logs;
+  for (fs::directory_iterator it(dir / "logs", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code type_ec;
+    if (name.rfind("slurm-", 0) == 0 && name.size() > 10 && name.compare(name.size() - 4, 4, ".out") == 0 &&
+        name.find_first_not_of("0123456789_", 6) == name.size() - 4 && it->is_regular_file(type_ec))
+      slurm_logs.push_back(it->path());
+  }
+  for (const fs::path& log : slurm_logs) fs::remove(log, ec);
   for (const std::string& file : compareReportFiles()) fs::remove(dir / file, ec);
   std::vector<fs::path> renders;
   for (fs::directory_iterator it(dir / "sequences", ec), end; !ec && it != end; it.increment(ec)) {

@@ -281,8 +281,10 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
     fs::create_directories(fs::path(tmp.file(file)).parent_path());
     test::writeText(tmp.file(file), "the user's\n");
   }
+  test::writeText(tmp.file("c/logs/slurm-12_3.out"), "a Slurm task's log of the earlier compare\n");
   runCompare(options);  // the same experiment again, and its collect
   for (const std::string& file : users) EXPECT_TRUE(fs::exists(tmp.file(file))) << file;
+  EXPECT_FALSE(fs::exists(tmp.file("c/logs/slurm-12_3.out")));
   // A standalone run in the folder compare's own run would take is refused, not replaced.
   {
     TempDir other;

@@ -108,9 +108,6 @@ TEST(Plot, WritesAPng) {
   EXPECT_EQ(std::string(magic + 1, 3), "PNG");
 }
 
-// A method's variants (its settings, its start) in shades of its colour, each its own: a colour
-// darkened towards black, or lightened towards white; black itself (monoslam's) lightened for every
-// shade, where darkening gave four of six variants the same black.
 // gnuplot failing once Ctrl-C was pressed (it gets the terminal's SIGINT too) is the interruption
 // (exit 130), not "is gnuplot installed?" (exit 1, compare's report lost).
 TEST(Plot, AFailureAfterAnInterruptIsTheInterruption) {
@@ -138,6 +135,9 @@ TEST(Plot, AFailureAfterAnInterruptIsTheInterruption) {
       ::testing::ExitedWithCode(0), "");
 }
 
+// A method's variants (its settings, its start) in shades of its colour, each its own: a colour
+// darkened towards black, or lightened towards white; black itself (monoslam's) lightened for every
+// shade, where darkening gave four of six variants the same black.
 TEST(Plot, ShadesOfOneColourDifferEvenFromBlack) {
   EXPECT_EQ(shadeColour("#d62728", 0.0), "#d62728");
   EXPECT_EQ(shadeColour("#d62728", 0.5), "#ea9393");
