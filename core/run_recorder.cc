@@ -39,20 +39,20 @@ void RunRecorder::write(Row row) {
     row.status = TrackStatus::Lost;
     row.reason = "the back-end's pose is not finite";
   }
+  // Unposed: initialising (not started yet: waiting, not lost) or lost.
+  const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
+                                                                                          : TrackStatus::Lost;
   if (row.T_world_camera) {
     ++tracked_;
     trajectory_file_ << formatTumLine({row.timestamp, *row.T_world_camera}) << '\n';
     trajectory_file_.flush();
-  } else if (row.status == TrackStatus::Initialising) {  // not started yet: waiting, not lost
-    ++initialising_;
-    ++initialising_reasons_[row.reason.empty() ? std::string(toString(row.status)) : reasonCategory(row.reason)];
   } else {
-    ++lost_;
-    if (!first_lost_frame_) first_lost_frame_ = row.index;
-    ++lost_reasons_[row.reason.empty() ? std::string(toString(TrackStatus::Lost)) : reasonCategory(row.reason)];
+    const bool initialising = status == TrackStatus::Initialising;
+    ++(initialising ? initialising_ : lost_);
+    if (!initialising && !first_lost_frame_) first_lost_frame_ = row.index;
+    ++(initialising ? initialising_reasons_ : lost_reasons_)[row.reason.empty() ? std::string(toString(status))
+                                                                                : reasonCategory(row.reason)];
   }
-  const TrackStatus status = row.T_world_camera || row.status == TrackStatus::Initialising ? row.status
-                                                                                          : TrackStatus::Lost;
   frames_file_ << formatFrameRow({row.index, row.timestamp, status, row.source, row.ms, row.cpu_ms, row.decode_ms,
                                   row.features, row.measured, row.reason});
   frames_file_.flush();

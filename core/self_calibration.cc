@@ -118,10 +118,10 @@ std::optional<CalibrationResult> SelfCalibrator::calibrate(std::string* why_not)
 
 std::string SelfCalibrator::whyNotCalibrated() const {
   const std::string views = std::to_string(numViews()) + " distinct board views";
-  if (!last_refusal_.empty()) return "no camera file, and self-calibration failed: " + views + ": " + last_refusal_ + "; give --camera";
+  const std::string failed = "no camera file, and self-calibration failed: ";
+  if (!last_refusal_.empty()) return failed + views + ": " + last_refusal_ + "; give --camera";
   if (numViews() < options_.min_views)
-    return "no camera file, and self-calibration failed: only " + views + " (need " +
-           std::to_string(options_.min_views) + "); give --camera";
+    return failed + "only " + views + " (need " + std::to_string(options_.min_views) + "); give --camera";
   // Enough views, never tried: it waits for max_views views or max_frames frames.
   return "no camera file, and the run ended before self-calibrating: " + views + ", fewer than calibration.max_views (" +
          std::to_string(options_.max_views) + ") and the run shorter than calibration.max_frames (" +

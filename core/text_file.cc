@@ -19,6 +19,21 @@ std::ifstream openTextFile(const std::string& path, std::ios::openmode mode) {
   return in;
 }
 
+nlohmann::json readJsonFile(const std::string& path) {
+  std::ifstream in = openTextFile(path);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, std::string("not JSON: ") + e.what());
+  }
+}
+
+bool isEntryOf(const std::string& path, const std::string& folder) {
+  const std::filesystem::path p = path;
+  const std::string name = p.filename().string();
+  return !p.has_root_path() && p.parent_path() == folder && !name.empty() && name != "." && name != "..";
+}
+
 std::string lowerExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -39,7 +39,8 @@ class BoardImageMotion {
   // normalised coordinates (at least 4).
   void seen(const std::vector<Vec3>& p_world, const std::vector<Vec2>& xy);
   // One frame on (every frame, the board seen or not): the features' undistorted normalised
-  // coordinates by id in the previous frame and in this one. Too few tracked, or no homography: the prediction is dropped.
+  // coordinates by id in the previous frame and in this one. Too few tracked, or no homography:
+  // the prediction is dropped.
   void advance(const std::unordered_map<int, Vec2>& xy_previous, const std::unordered_map<int, Vec2>& xy_current);
   void forget() { H_image_board_.reset(); }
   bool predicting() const { return H_image_board_.has_value(); }

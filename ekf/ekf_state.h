@@ -2,8 +2,8 @@
 // The EKF state x = (r, q, v, w, feature blocks...) and its full covariance P (SPEC section 5).
 // Camera: position r (world), unit quaternion q = (w, x, y, z) of R_world_camera, linear velocity v
 // (world, m/s), angular velocity w (camera frame, rad/s): 13 values. Feature blocks follow in the
-// order they were appended (3 for a point, 6 for an initialising ray or an inverse-depth feature); removing one removes its
-// rows and columns. A tail of other blocks (a back-end's cloned camera poses and tracked points)
+// order they were appended (3 for a point, 6 for an initialising ray or an inverse-depth feature);
+// removing one removes its rows and columns. A tail of other blocks (a back-end's cloned camera poses and tracked points)
 // may follow the features.
 #include <Eigen/Core>
 

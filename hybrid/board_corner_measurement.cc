@@ -377,7 +377,8 @@ bool BoardCornerMeasurer::withinGate(const CornerPrediction& p, const Vec2& meas
 int BoardCornerMeasurer::refineHalfWindow(double square_px) const {
   // Half side 0.4 square: a window 0.8 square across, inside the four squares meeting at the corner,
   // twice the detector's (`detector.refine_window_fraction` is its side, under SPEC section 6's half
-  // square, and this does not read it): hybrid's measured figures are with this one. Compared as a double: a diverged filter's square can be huge or NaN, beyond int.
+  // square, and this does not read it): hybrid's measured figures are with this one. Compared as a
+  // double: a diverged filter's square can be huge or NaN, beyond int.
   const double half = 0.4 * square_px;
   if (!(half < options_.detector.max_refine_half_window)) return options_.detector.max_refine_half_window;
   return std::max(2, static_cast<int>(half));

@@ -46,7 +46,8 @@ struct BoardCornerMeasurementOptions {
   // frames: all posed as `board`, 54 corners each).
   double min_corner_contrast = 16;
   int search_interval = 5;           // while the board is not seen where predicted, a full search every this many frames
-  double reanchor_position_sigma = 0.02;     // m, its square added to the camera's variance when a found board disagrees with the filter
+  // m, its square added to the camera's position variance when a found board disagrees with the filter
+  double reanchor_position_sigma = 0.02;
   double reanchor_orientation_sigma = 0.02;  // per quaternion component, likewise
   int border_px = 6;                 // corners predicted closer to the image border (or to its refinement window) are not measured
   CornerNoiseOptions noise;          // pixel_sigma estimated from the corners' scatter about the board plane

@@ -115,7 +115,8 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
       if (last.compare(0, error_prefix.size(), error_prefix) == 0) {
         r.error = last.substr(error_prefix.size());
         // Stopped by Ctrl-C or SIGTERM before it wrote its outputs (while reading its image list).
-        const bool stopped = r.error.rfind("interrupted", 0) == 0 || r.error.find(": interrupted while") != std::string::npos;
+        const bool stopped =
+            r.error.rfind("interrupted", 0) == 0 || r.error.find(": interrupted while") != std::string::npos;
         r.status = stopped ? "interrupted" : "failed";
       } else if (last.rfind(kStoppedByCompare, 0) == 0) {
         r.status = "interrupted";
@@ -167,14 +168,7 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
   std::error_code ec;
   if (!fs::exists(plan_path, ec))
     throw InputError(plan_path, "missing: --collect takes the folder that compare --plan wrote");
-  std::ifstream in = openTextFile(plan_path);  // a folder would throw "Is a directory" (exit 1)
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(plan_path, std::string("not JSON: ") + e.what());
-  }
-  const Plan plan = planFromJson(j, plan_path);
+  const Plan plan = planFromJson(readJsonFile(plan_path), plan_path);
   std::vector<SequenceInfo> seqs;
   for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(inCollectedFolder(path, plan, dir)));
   std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene

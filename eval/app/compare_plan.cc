@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <regex>
 #include <sstream>
 
 #include "core/error.h"
@@ -15,6 +16,7 @@
 #include "core/yaml.h"
 #include "datasets/synth_sequence.h"
 #include "eval/app/backends.h"
+#include "eval/app/job_runner.h"
 #include "eval/app/run_sequence.h"
 #include "eval/report/plot.h"
 
@@ -93,10 +95,7 @@ fs::path trialRenderFolder(const fs::path& dir, int trial) { return dir / "seque
 // A path an earlier plan.json gives for one of its runs: kept only if it names an entry of `folder`
 // (runs/NAME, logs/NAME.log), so that an edited plan cannot remove anything else.
 bool isOwnEntry(const nlohmann::json& path, const char* folder) {
-  if (!path.is_string()) return false;
-  const fs::path p = path.get<std::string>();
-  return !p.has_root_path() && p.parent_path() == folder && !p.filename().empty() && p.filename() != "." &&
-         p.filename() != "..";
+  return path.is_string() && isEntryOf(path.get<std::string>(), folder);
 }
 
 // An earlier compare's folder (its plan.json): what it wrote goes, or the new report would sit
@@ -108,14 +107,7 @@ bool isOwnEntry(const nlohmann::json& path, const char* folder) {
 // `slamcmp run`'s default runs/SEQ-BACKEND, a figure for a paper) stay.
 void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>& given) {
   const std::string plan_path = (dir / "plan.json").string();
-  nlohmann::json earlier;
-  try {
-    std::ifstream in = openTextFile(plan_path);
-    earlier = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(plan_path, std::string("not an earlier compare's plan (not JSON: ") + e.what() +
-                                    "); compare removes only what a compare wrote: give another --out");
-  }
+  const nlohmann::json earlier = readJsonFile(plan_path);
   if (!earlier.is_object() || !earlier.contains("runs") || !earlier["runs"].is_array())
     throw InputError(plan_path + ": runs", "missing: not an earlier compare's plan; give another --out");
   std::error_code ec;
@@ -126,14 +118,10 @@ void removeEarlierExperiment(const fs::path& dir, const std::vector<std::string>
   }
   for (const std::string& figure : linkedFigures(dir.string())) fs::remove(dir / figure, ec);
   // Its Slurm tasks' logs (slurm.sbatch's --output: slurm-JOB_TASK.out).
+  const std::regex slurm_log(R"(slurm-[0-9]+_[0-9]+\.out)");
   std::vector<fs::path> slurm_logs;
-  for (fs::directory_iterator it(dir / "logs", ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    std::error_code type_ec;
-    if (name.rfind("slurm-", 0) == 0 && name.size() > 10 && name.compare(name.size() - 4, 4, ".out") == 0 &&
-        name.find_first_not_of("0123456789_", 6) == name.size() - 4 && it->is_regular_file(type_ec))
-      slurm_logs.push_back(it->path());
-  }
+  for (fs::directory_iterator it(dir / "logs", ec), end; !ec && it != end; it.increment(ec))
+    if (std::regex_match(it->path().filename().string(), slurm_log)) slurm_logs.push_back(it->path());
   for (const fs::path& log : slurm_logs) fs::remove(log, ec);
   for (const std::string& file : compareReportFiles()) fs::remove(dir / file, ec);
   std::vector<fs::path> renders;
@@ -386,7 +374,7 @@ std::string jobLine(const PlannedRun& run, const std::string& dir) {
   // A run that died on a signal (a crash on a node) ends its log saying so, as compare's own runner
   // does, unless it said why itself: collect calls a log without either still running.
   return line + " > " + log + " 2>&1 || { s=$?; if [ \"$s\" -gt 128 ] && [ ! -e " + summary + " ] && ! tail -n 1 " +
-         log + " | grep -q '^slamcmp: '; then echo \"slamcmp: the run ended on signal $((s - 128))\" >> " + log +
+         log + " | grep -q '^slamcmp: '; then echo \"" + kEndedOnSignal + "$((s - 128))\" >> " + log +
          "; fi; exit \"$s\"; }";
 }
 

@@ -56,7 +56,7 @@ void noteSignal(const PlannedRun& run, const std::string& dir, int signal, bool 
     log << "\n" << kStoppedByCompare << " this run (signal " << signal << ", " << name
         << ") before it wrote its outputs\n";
   else
-    log << "\nslamcmp: the run ended on signal " << signal << " (" << name << ")\n";
+    log << "\n" << kEndedOnSignal << signal << " (" << name << ")\n";
 }
 
 }  // namespace

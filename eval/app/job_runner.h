@@ -15,5 +15,8 @@ bool runPlannedJobs(const Plan& plan, const std::string& dir, int jobs);
 // The line a run's log ends with when compare stopped it before it could leave outputs of its own
 // (a signal in its first fraction of a second, before its handler): collect calls it interrupted.
 inline constexpr const char* kStoppedByCompare = "slamcmp compare: stopped";
+// The line a run's log ends with when it died on a signal of its own (a crash), written by
+// compare's runner and by each jobs.txt line (GNU parallel, Slurm), followed by the signal's number.
+inline constexpr const char* kEndedOnSignal = "slamcmp: the run ended on signal ";
 
 }  // namespace slamcmp

@@ -101,12 +101,7 @@ RunResult loadRun(const Method& method, const std::string& dir, const SequenceIn
   r.method = method;
   r.dir = dir;
   const std::string summary_path = dir + "/" + run_files::kSummary;
-  std::ifstream in = openTextFile(summary_path);  // a folder would throw "Is a directory", naming no file
-  try {
-    r.summary = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(summary_path, std::string("not JSON: ") + e.what());
-  }
+  r.summary = readJsonFile(summary_path);
   checkSummary(r.summary, summary_path);
   r.frames = readFramesCsv(dir + "/" + run_files::kFrames);
   const int tracked = r.summary["tracked"].get<int>();
@@ -233,11 +228,8 @@ std::vector<std::string> linkedFigures(const std::string& out_dir) {
   for (std::string line; std::getline(in, line);) {
     const size_t open = line.find("](figures/");
     if (line.rfind("![", 0) != 0 || open == std::string::npos || line.back() != ')') continue;
-    const fs::path figure = line.substr(open + 2, line.size() - open - 3);
-    const std::string name = figure.filename().string();
-    if (name != "." && name != ".." && figure.filename() == figure.relative_path().lexically_relative("figures") &&
-        !figure.has_root_path())
-      figures.push_back(figure.string());
+    const std::string figure = line.substr(open + 2, line.size() - open - 3);
+    if (isEntryOf(figure, "figures")) figures.push_back(figure);
   }
   return figures;
 }

@@ -76,12 +76,17 @@ std::vector<std::map<std::string, std::string>> readResults(const std::string& p
   return rows;
 }
 
-std::string renderTv1(const TempDir& tmp, int frames) {
+// tv1's first `frames`, rendered fast (one sample a pixel).
+SynthOptions shortTv1(int frames) {
   SynthOptions synth;
   synth.preset = "tv1";
   synth.frames = frames;
   synth.supersample = 1;
-  writeSyntheticSequence(synth, tmp.file("tv1"));
+  return synth;
+}
+
+std::string renderTv1(const TempDir& tmp, int frames) {
+  writeSyntheticSequence(shortTv1(frames), tmp.file("tv1"));
   return tmp.file("tv1");
 }
 
@@ -339,10 +344,7 @@ TEST(CompareExperiment, NoGroundTruthTrialsAndARerunIntoTheSameFolder) {
 
   // A sequence given from the folder's sequences/ (as reproduce renders tv1..tv4 there) stays for
   // the next compare into it; the earlier trials' renders beside it go.
-  SynthOptions synth;
-  synth.preset = "tv1";
-  synth.frames = 4;
-  synth.supersample = 1;
+  const SynthOptions synth = shortTv1(4);
   writeSyntheticSequence(synth, tmp.file("r/sequences/tv1"));
   CompareOptions inside = shortCompare(tmp.file("r/sequences/tv1"), "cslam", tmp.file("r"));
   inside.trials = 2;
@@ -434,10 +436,7 @@ TEST(CompareExperiment, RunningRunsAreUnfinishedAndACrashSaysItsSignal) {
 // compare says so. A third with other options (noise) is not said to.
 TEST(CompareExperiment, RendersDifferingInTheirSeedAloneAreSaidToShareTheirTrials) {
   TempDir tmp;
-  SynthOptions synth;
-  synth.preset = "tv1";
-  synth.frames = 4;
-  synth.supersample = 1;
+  SynthOptions synth = shortTv1(4);
   writeSyntheticSequence(synth, tmp.file("s1"));
   synth.seed = 2;
   writeSyntheticSequence(synth, tmp.file("s2"));
