@@ -101,7 +101,7 @@ std::vector<ImageEntry> readImageList(const fs::path& list_path, const ImageList
                                                                       : "timestamp goes back in time");
     const fs::path image = layout.image_dir / fields[1];
     std::error_code ec;  // e.g. a name too long for the file system: no such file either
-    if (!fs::is_regular_file(image, ec))
+    if (layout.images_must_exist && !fs::is_regular_file(image, ec))
       throw InputError(atLine(list, n), "image '" + image.string() + "' does not exist");
     entries.push_back({t, image.string()});
   }
@@ -126,9 +126,13 @@ double medianRate(const std::vector<ImageEntry>& entries) {
   return 1.0 / median(dt);  // timestamps strictly increase: dt > 0
 }
 
-Sequence imageListSequence(std::vector<ImageEntry> entries, double fps) {
+Sequence imageListSequence(std::vector<ImageEntry> entries, double fps, bool read_images) {
   Sequence seq;
   seq.fps = fps;
+  if (!read_images) {
+    seq.frames = std::make_unique<ImageListSource>(std::move(entries), seq.image_size);
+    return seq;
+  }
   std::string why;
   const cv::Mat first = readGreyImage(entries.front().path, &why);
   if (first.empty()) throw InputError(entries.front().path, "cannot be decoded as an image (" + why + ")");

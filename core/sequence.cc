@@ -160,7 +160,9 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
     seq.camera_path = (companion_dir / "camera.yaml").string();
     seq.camera = readCameraYaml(seq.camera_path);
   }
-  if (seq.camera && (seq.camera->width != seq.image_size.width || seq.camera->height != seq.image_size.height))
+  // Without the images (read_images false) their size is unknown: nothing to check against.
+  const bool size_known = !seq.image_size.empty();
+  if (size_known && seq.camera && (seq.camera->width != seq.image_size.width || seq.camera->height != seq.image_size.height))
     throw InputError(seq.camera_path, "camera is " + std::to_string(seq.camera->width) + "x" +
                                           std::to_string(seq.camera->height) + " but the images are " +
                                           std::to_string(seq.image_size.width) + "x" +
@@ -171,7 +173,7 @@ Sequence openSequence(const std::string& path, const SequenceOpenOptions& option
     seq.target_path = (companion_dir / "target.yaml").string();
   if (!seq.target_path.empty()) {
     seq.target = readTargetYaml(seq.target_path, options.allow_symmetric_target);
-    checkTargetFitsImages(*seq.target, seq.image_size, seq.target_path);
+    if (size_known) checkTargetFitsImages(*seq.target, seq.image_size, seq.target_path);
   }
 
   if (!seq.groundtruth && folder && pathExists(companion_dir / "groundtruth.txt")) {  // one folder, one ground truth

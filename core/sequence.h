@@ -64,6 +64,11 @@ struct SequenceOpenOptions {
   // An interrupt (core/interrupt.h) ends the reading of a long image list; compare's collect, which
   // reads the sequences after its runs were interrupted, reads on.
   bool stop_on_interrupt = true;
+  // compare's collect needs a sequence's frame count, ground truth and scene, not its images, which
+  // a cluster's user may have deleted to free the disk: false reads an image list without looking
+  // for its files. The image size is then unknown (0x0) and the camera and target are not checked
+  // against it; a folder of images and a video are still their files.
+  bool read_images = true;
   // calibrate makes the camera file: the sequence's own (camera.yaml, EuRoC's sensor.yaml) is not
   // read, so a broken one can be replaced. EuRoC's ground truth is then the body's, not the
   // camera's (sensor.yaml's T_BS is not read either): for calibrate only.

@@ -88,9 +88,10 @@ class EurocFormat : public SequenceFormat {
   Sequence open(const fs::path& path, const SequenceOpenOptions& options) const override {
     const fs::path cam = eurocCameraFolder(path);
     std::vector<ImageEntry> entries =
-        readImageList(cam / "data.csv", {"timestamp,filename", ',', 1e9, cam / "data", options.stop_on_interrupt});
+        readImageList(cam / "data.csv", {"timestamp,filename", ',', 1e9, cam / "data", options.stop_on_interrupt,
+                                          options.read_images});
     const double fps = medianRate(entries);
-    Sequence seq = imageListSequence(std::move(entries), fps);
+    Sequence seq = imageListSequence(std::move(entries), fps, options.read_images);
     SE3 T_body_camera;
     if (options.read_camera && options.camera_path.empty() && pathExists(cam / "sensor.yaml")) {
       seq.camera_path = (cam / "sensor.yaml").string();

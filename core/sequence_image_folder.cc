@@ -76,7 +76,7 @@ class ImageFolderFormat : public SequenceFormat {
     return fs::is_directory(path, ec);
   }
   Sequence open(const fs::path& path, const SequenceOpenOptions& options) const override {
-    return imageListSequence(listImageFolder(path, options.images_fps), options.images_fps);
+    return imageListSequence(listImageFolder(path, options.images_fps), options.images_fps, options.read_images);
   }
 };
 

@@ -16,10 +16,10 @@ class TumFormat : public SequenceFormat {
     return fs::is_directory(path, ec) && pathExists(path / "rgb.txt");
   }
   Sequence open(const fs::path& path, const SequenceOpenOptions& options) const override {
-    std::vector<ImageEntry> entries =
-        readImageList(path / "rgb.txt", {"timestamp path", ' ', 1.0, path, options.stop_on_interrupt});
+    std::vector<ImageEntry> entries = readImageList(
+        path / "rgb.txt", {"timestamp path", ' ', 1.0, path, options.stop_on_interrupt, options.read_images});
     const double fps = medianRate(entries);
-    return imageListSequence(std::move(entries), fps);
+    return imageListSequence(std::move(entries), fps, options.read_images);
   }
 };
 

@@ -170,14 +170,17 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
     throw InputError(plan_path, "missing: --collect takes the folder that compare --plan wrote");
   const Plan plan = planFromJson(readJsonFile(plan_path), plan_path);
   std::vector<SequenceInfo> seqs;
-  for (const std::string& path : plan.sequences) seqs.push_back(readSequenceInfo(inCollectedFolder(path, plan, dir)));
+  // Only the runs are read: the images may be gone (deleted to free a cluster's disk).
+  for (const std::string& path : plan.sequences)
+    seqs.push_back(readSequenceInfo(inCollectedFolder(path, plan, dir), SequenceImages::NotNeeded));
   std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene
   std::vector<RunResult> runs;
   std::vector<UnfinishedRun> not_finished;
   for (const PlannedRun& planned : plan.runs) {
     const std::string sequence_path = inCollectedFolder(planned.sequence_path, plan, dir);
     auto it = trial_seqs.find(sequence_path);
-    if (it == trial_seqs.end()) it = trial_seqs.emplace(sequence_path, readSequenceInfo(sequence_path)).first;
+    if (it == trial_seqs.end())
+      it = trial_seqs.emplace(sequence_path, readSequenceInfo(sequence_path, SequenceImages::NotNeeded)).first;
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }

@@ -230,7 +230,7 @@ Plan makePlan(const CompareOptions& options) {
   plan.dir = dir.string();
   std::vector<SequenceInfo> infos;
   for (const std::string& path : options.sequences) {
-    SequenceInfo info = readSequenceInfo(path);
+    SequenceInfo info = readSequenceInfo(path, SequenceImages::Checked);
     for (const auto& other : infos)
       if (other.name == info.name) throw InputError(path, "two sequences are named '" + info.name + "'");
     plan.sequences.push_back(fs::absolute(path).lexically_normal().string());

@@ -30,9 +30,10 @@ std::string fmt(double v, int precision) {
   return s.str();
 }
 
-SequenceInfo readSequenceInfo(const std::string& path) {
+SequenceInfo readSequenceInfo(const std::string& path, SequenceImages images) {
   SequenceOpenOptions options;
   options.stop_on_interrupt = false;  // collected after an interrupt too
+  options.read_images = images == SequenceImages::Checked;
   Sequence s = openSequence(path, options);
   SequenceInfo info{path, s.name, s.frames->size(), s.groundtruth, std::nullopt};
   if (const std::string scene = sceneFileOf(path); !scene.empty()) info.scene = readSceneYaml(scene);

@@ -67,7 +67,10 @@ struct RunResult {
 std::string fmt(double v, int precision = 2);
 
 // Opens the sequence for its name, frame count, ground truth and scene (InputError if it cannot).
-SequenceInfo readSequenceInfo(const std::string& path);
+// `images`: its images are checked too (a plan's, whose runs need them); a collect reads the runs
+// without them (SequenceOpenOptions::read_images).
+enum class SequenceImages { Checked, NotNeeded };
+SequenceInfo readSequenceInfo(const std::string& path, SequenceImages images);
 
 // A finished run read back from `dir` and scored (throws InputError for a missing or bad file).
 RunResult loadRun(const Method& method, const std::string& dir, const SequenceInfo& seq);

@@ -476,6 +476,31 @@ TEST(CompareExperiment, AMovedFolderIsCollectedWhereItIs) {
   EXPECT_FALSE(fs::exists(tmp.file("a")));
 }
 
+
+// A collect reads the runs, the ground truth and the scene, not the images: a cluster's user who
+// deleted the renders' images to free the disk still gets the same report (collect refused: "image
+// ... does not exist"). A plan still checks them, as its runs need them.
+TEST(CompareExperiment, ACollectNeedsNoImages) {
+  ASSERT_NE(std::getenv("SLAMCMP_BIN"), nullptr) << "run through ctest (SLAMCMP_BIN)";
+  TempDir tmp;
+  const std::string seq = renderTv1(tmp, 8);
+  CompareOptions options = shortCompare(seq, "cslam", tmp.file("a"));
+  options.trials = 2;
+  runCompare(options);
+  const std::string before = readFile(tmp.file("a/results.csv"));
+  for (const std::string& render : {seq, tmp.file("a/sequences/seed2/tv1")}) {
+    ASSERT_TRUE(fs::exists(render + "/rgb")) << render;
+    fs::remove_all(render + "/rgb");
+  }
+  collectCompare(tmp.file("a"));
+  EXPECT_EQ(readFile(tmp.file("a/results.csv")), before);
+  try {
+    planCompare(shortCompare(seq, "cslam", tmp.file("b")));
+    FAIL() << "a plan over a sequence without its images was written";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+  }
+}
 // A method whose every run failed: its accuracy row has as many cells as the header (it had one
 // more), and a run's map is scored as run wrote it, so results.csv and summary.json agree exactly.
 TEST(CompareExperiment, AFailedMethodsRowFitsItsTableAndMapFiguresAgree) {
