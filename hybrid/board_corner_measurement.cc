@@ -138,6 +138,86 @@ std::vector<int> spotCheckCorners(const std::vector<int>& ids, int cols) {
   return spot;
 }
 
+void BoardCornerMeasurer::trackCorners(const std::vector<CornerPrediction>& pred, const std::vector<cv::Mat>& pyramid,
+                                       std::vector<int>* ids, std::vector<cv::Point2f>* uv) const {
+  // The corners tracked into the last frame that this one's prediction keeps in the image.
+  std::vector<int> track_ids;
+  std::vector<cv::Point2f> previous, from_prediction;
+  for (size_t k = 0; k < tracked_ids_.size(); ++k) {
+    const CornerPrediction& p = pred[tracked_ids_[k]];
+    if (!p.in_image) continue;
+    track_ids.push_back(tracked_ids_[k]);
+    previous.push_back(tracked_uv_[k]);
+    from_prediction.emplace_back(static_cast<float>(p.h.uv_distorted.x()), static_cast<float>(p.h.uv_distorted.y()));
+  }
+  // Tracked from the previous frame, started where the filter predicts each corner (its
+  // constant-velocity motion: a fast turn moves the board by most of a square a frame).
+  // Lucas-Kanade started more than half a square off settles on a neighbour that looks alike (the
+  // diagonal one), every corner alike, which neither the gate nor the board's plane can tell:
+  // corners are also tracked from where they were, and the two starts agree only on the right
+  // one. A bad start comes from a pose error, which moves the starts about affinely over the
+  // board: the corners on the hull of those tracked (spotCheckCorners) are checked first, and
+  // the others only if one of those disagrees (a lone corner on its neighbour leaves the board's
+  // plane, where the plane test drops it).
+  if (track_ids.empty() || pyramid_prev_.empty()) return;
+  const cv::Size lk_window(options_.lk_window_px, options_.lk_window_px);
+  std::vector<unsigned char> tracked;
+  const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
+  cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_prediction, tracked, cv::noArray(), lk_window,
+                           options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+  // Tracks corners `which` (indices into track_ids) from where they were too, and clears
+  // `tracked` for those whose two starts disagree; false when one of them does.
+  const auto check = [&](const std::vector<size_t>& which) {
+    std::vector<cv::Point2f> from, from_previous;
+    for (size_t k : which) from.push_back(previous[k]);
+    std::vector<unsigned char> tracked_previous;
+    cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, from, from_previous, tracked_previous, cv::noArray(),
+                             lk_window, options_.lk_levels, lk_stop);
+    bool all_agree = true;
+    for (size_t j = 0; j < which.size(); ++j) {
+      const size_t k = which[j];
+      const bool agree = tracked[k] && tracked_previous[j] &&
+                         cv::norm(from_prediction[k] - from_previous[j]) <= options_.max_track_disagreement_px;
+      tracked[k] = agree;
+      all_agree = all_agree && agree;
+    }
+    return all_agree;
+  };
+  const std::vector<int> spot_ids = spotCheckCorners(track_ids, target_.cols);
+  std::vector<size_t> spot, rest;
+  for (size_t k = 0; k < track_ids.size(); ++k)
+    (std::find(spot_ids.begin(), spot_ids.end(), track_ids[k]) != spot_ids.end() ? spot : rest).push_back(k);
+  if (!check(spot) && !rest.empty()) check(rest);
+  for (size_t k = 0; k < track_ids.size(); ++k) {
+    if (!tracked[k]) continue;
+    ids->push_back(track_ids[k]);
+    uv->push_back(from_prediction[k]);
+  }
+}
+
+void BoardCornerMeasurer::refineCandidates(const std::vector<CornerPrediction>& pred, const cv::Mat& grey, int half,
+                                           std::vector<int>* ids, std::vector<cv::Point2f>* uv) const {
+  // The others refined where the filter predicts them, when its uncertainty is well under a square.
+  for (int i = 0; i < static_cast<int>(pred.size()); ++i) {
+    if (!pred[i].in_image || std::find(ids->begin(), ids->end(), i) != ids->end()) continue;
+    if (pred[i].half_axis_px > options_.max_predicted_search * pred[i].square_px) continue;
+    ids->push_back(i);
+    uv->emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
+  }
+  refineCornersSubpixel(grey, half, *uv, options_.detector.subpixel, &camera_);
+  // Tracking and refinement both leave a corner where it started on a blank frame (LK's gradients
+  // are the last frame's; a flat window moves no refinement), and the corners were measured at
+  // their predictions, posing a frame that showed nothing.
+  size_t contrasted = 0;
+  for (size_t k = 0; k < ids->size(); ++k)
+    if (cornerContrast(grey, (*uv)[k], half) >= options_.min_corner_contrast) {
+      (*ids)[contrasted] = (*ids)[k];
+      (*uv)[contrasted++] = (*uv)[k];
+    }
+  ids->resize(contrasted);
+  uv->resize(contrasted);
+}
+
 BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const cv::Mat& grey) {
   const int n = static_cast<int>(corners_world_.size());
   const std::vector<CornerPrediction> pred = predict(state, grey);
@@ -175,78 +255,8 @@ BoardCornerMeasurement BoardCornerMeasurer::measure(const EkfState& state, const
   } else {
     std::vector<int> ids;
     std::vector<cv::Point2f> uv;
-    // The corners tracked into the last frame that this one's prediction keeps in the image.
-    std::vector<int> track_ids;
-    std::vector<cv::Point2f> previous, from_prediction;
-    for (size_t k = 0; k < tracked_ids_.size(); ++k) {
-      const CornerPrediction& p = pred[tracked_ids_[k]];
-      if (!p.in_image) continue;
-      track_ids.push_back(tracked_ids_[k]);
-      previous.push_back(tracked_uv_[k]);
-      from_prediction.emplace_back(static_cast<float>(p.h.uv_distorted.x()), static_cast<float>(p.h.uv_distorted.y()));
-    }
-    // Tracked from the previous frame, started where the filter predicts each corner (its
-    // constant-velocity motion: a fast turn moves the board by most of a square a frame).
-    // Lucas-Kanade started more than half a square off settles on a neighbour that looks alike (the
-    // diagonal one), every corner alike, which neither the gate nor the board's plane can tell:
-    // corners are also tracked from where they were, and the two starts agree only on the right
-    // one. A bad start comes from a pose error, which moves the starts about affinely over the
-    // board: the corners on the hull of those tracked (spotCheckCorners) are checked first, and
-    // the others only if one of those disagrees (a lone corner on its neighbour leaves the board's
-    // plane, where the plane test drops it).
-    if (!track_ids.empty() && !pyramid_prev_.empty()) {
-      std::vector<unsigned char> tracked;
-      const cv::TermCriteria lk_stop(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 30, 0.01);
-      cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, previous, from_prediction, tracked, cv::noArray(), lk_window,
-                               options_.lk_levels, lk_stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-      // Tracks corners `which` (indices into track_ids) from where they were too, and clears
-      // `tracked` for those whose two starts disagree; false when one of them does.
-      const auto check = [&](const std::vector<size_t>& which) {
-        std::vector<cv::Point2f> from, from_previous;
-        for (size_t k : which) from.push_back(previous[k]);
-        std::vector<unsigned char> tracked_previous;
-        cv::calcOpticalFlowPyrLK(pyramid_prev_, pyramid, from, from_previous, tracked_previous, cv::noArray(),
-                                 lk_window, options_.lk_levels, lk_stop);
-        bool all_agree = true;
-        for (size_t j = 0; j < which.size(); ++j) {
-          const size_t k = which[j];
-          const bool agree = tracked[k] && tracked_previous[j] &&
-                             cv::norm(from_prediction[k] - from_previous[j]) <= options_.max_track_disagreement_px;
-          tracked[k] = agree;
-          all_agree = all_agree && agree;
-        }
-        return all_agree;
-      };
-      const std::vector<int> spot_ids = spotCheckCorners(track_ids, target_.cols);
-      std::vector<size_t> spot, rest;
-      for (size_t k = 0; k < track_ids.size(); ++k)
-        (std::find(spot_ids.begin(), spot_ids.end(), track_ids[k]) != spot_ids.end() ? spot : rest).push_back(k);
-      if (!check(spot) && !rest.empty()) check(rest);
-      for (size_t k = 0; k < track_ids.size(); ++k) {
-        if (!tracked[k]) continue;
-        ids.push_back(track_ids[k]);
-        uv.push_back(from_prediction[k]);
-      }
-    }
-    // Refined where the filter predicts them, when its uncertainty is well under a square.
-    for (int i = 0; i < n; ++i) {
-      if (!pred[i].in_image || std::find(ids.begin(), ids.end(), i) != ids.end()) continue;
-      if (pred[i].half_axis_px > options_.max_predicted_search * pred[i].square_px) continue;
-      ids.push_back(i);
-      uv.emplace_back(static_cast<float>(pred[i].h.uv_distorted.x()), static_cast<float>(pred[i].h.uv_distorted.y()));
-    }
-    refineCornersSubpixel(grey, half, uv, options_.detector.subpixel, &camera_);
-    // Tracking and refinement both leave a corner where it started on a blank frame (LK's gradients
-    // are the last frame's; a flat window moves no refinement), and the corners were measured at
-    // their predictions, posing a frame that showed nothing.
-    size_t contrasted = 0;
-    for (size_t k = 0; k < ids.size(); ++k)
-      if (cornerContrast(grey, uv[k], half) >= options_.min_corner_contrast) {
-        ids[contrasted] = ids[k];
-        uv[contrasted++] = uv[k];
-      }
-    ids.resize(contrasted);
-    uv.resize(contrasted);
+    trackCorners(pred, pyramid, &ids, &uv);
+    refineCandidates(pred, grey, half, &ids, &uv);
     out = keep(pred, ids, uv);
     // Most of the corners lost by the tracking: a board search where the filter predicts it.
     if (!search_first && static_cast<int>(out.observations.size()) * 2 < predicted && all_in_image)

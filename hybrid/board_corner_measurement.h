@@ -184,6 +184,15 @@ class BoardCornerMeasurer {
   // A board detection in the region where the filter predicts the board; empty if none.
   std::vector<cv::Point2f> searchPredictedRegion(const std::vector<CornerPrediction>& pred, const cv::Mat& grey,
                                                  double square_px);
+  // The corners tracked by Lucas-Kanade from the last frame (its pyramid) into this one (`pyramid`),
+  // appended to ids and uv (distorted pixels): those whose starts at the prediction and at the last
+  // pixel agree.
+  void trackCorners(const std::vector<CornerPrediction>& pred, const std::vector<cv::Mat>& pyramid,
+                    std::vector<int>* ids, std::vector<cv::Point2f>* uv) const;
+  // Appends the corners not tracked that the filter predicts well under a square off, refines
+  // every candidate to sub-pixel (windows of `half`) and drops those on a flat window.
+  void refineCandidates(const std::vector<CornerPrediction>& pred, const cv::Mat& grey, int half,
+                        std::vector<int>* ids, std::vector<cv::Point2f>* uv) const;
   // Each corner's distance to the board plane's homography through all of them, pixels.
   std::vector<double> planeErrorsPx(const std::vector<int>& ids, const std::vector<Vec2>& z) const;
   // Gates each candidate (ids[k] measured at uv[k]) by its innovation, then the set by the board
