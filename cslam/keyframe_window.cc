@@ -145,24 +145,22 @@ void KeyframeWindow::dropOldest() {
   ++first_serial_;
 }
 
-void KeyframeWindow::refine() {
-  const int newest = newestSerial();
-  const int first_free = std::max(first_serial_, newest - options_.window_keyframes + 1);
-  // The map points the window's keyframes see, and how many of them each older keyframe sees.
+std::vector<int> KeyframeWindow::pointsSeenFrom(int first_free) const {
   std::vector<int> point_ids;
-  bool board = false;
-  for (int s = first_free; s <= newest; ++s) {
-    board = board || keyframe(s).hasBoard();
+  for (int s = first_free; s <= newestSerial(); ++s)
     for (const auto& [id, xy] : keyframe(s).features)
       if (tracks_.at(id).initialised) point_ids.push_back(id);
-  }
   std::sort(point_ids.begin(), point_ids.end());
   point_ids.erase(std::unique(point_ids.begin(), point_ids.end()), point_ids.end());
+  return point_ids;
+}
+
+std::vector<int> KeyframeWindow::olderKeyframesToFix(const std::vector<int>& point_ids, int first_free) const {
   std::map<int, int> shared;  // older keyframe serial -> points of the window it sees
   for (int id : point_ids)
     for (int o : tracks_.at(id).keyframes)
       if (o < first_free) ++shared[o];
-  // The older keyframes sharing most points join, fixed (newest first on ties).
+  // Those sharing most points join (newest first on ties).
   std::vector<std::pair<int, int>> candidates;  // (shared points, serial)
   for (const auto& [s, n] : shared)
     if (n >= kMinSharedToFix) candidates.emplace_back(n, s);
@@ -170,13 +168,25 @@ void KeyframeWindow::refine() {
     return a.first != b.first ? a.first > b.first : a.second > b.second;
   });
   if (static_cast<int>(candidates.size()) > options_.max_fixed_keyframes) candidates.resize(options_.max_fixed_keyframes);
+  std::vector<int> serials;
+  for (const auto& [n, s] : candidates) serials.push_back(s);
+  return serials;
+}
+
+void KeyframeWindow::refine() {
+  const int newest = newestSerial();
+  const int first_free = std::max(first_serial_, newest - options_.window_keyframes + 1);
+  bool board = false;
+  for (int s = first_free; s <= newest; ++s) board = board || keyframe(s).hasBoard();
+  const std::vector<int> point_ids = pointsSeenFrom(first_free);
+  const std::vector<int> fixed_older = olderKeyframesToFix(point_ids, first_free);
   // Gauge: board corners in the window fix it; else at least two fixed keyframes (position,
   // orientation and scale), the window's oldest if there are too few older ones.
-  int extra_fixed = board ? 0 : std::max(0, 2 - static_cast<int>(candidates.size()));
+  int extra_fixed = board ? 0 : std::max(0, 2 - static_cast<int>(fixed_older.size()));
 
   BundleAdjustment ba;
   std::map<int, int> camera_of;  // keyframe serial -> BA camera
-  for (const auto& [n, s] : candidates) camera_of[s] = ba.addCamera(keyframe(s).T_world_camera.inverse(), true);
+  for (int s : fixed_older) camera_of[s] = ba.addCamera(keyframe(s).T_world_camera.inverse(), true);
   for (int s = first_free; s <= newest; ++s)
     camera_of[s] = ba.addCamera(keyframe(s).T_world_camera.inverse(), s - first_free < extra_fixed);
   struct Obs {
@@ -226,24 +236,13 @@ void KeyframeWindow::refine() {
   if (point_of.empty() && !board) return;
   ba.solve(options_.bundle_adjustment, focal_px_);
 
-
   for (int s = first_free; s <= newest; ++s) keyframe(s).T_world_camera = ba.camera(camera_of.at(s)).inverse();
-
   for (const auto& [id, p] : point_of) {
     Track& track = tracks_.at(id);
     track.p_world = ba.point(p);
     if (board && track.valid) track.board_prior = track.p_world;
   }
-  // The typical depth of the map points in the newest keyframe, for the features not yet placed.
-  std::vector<double> depths;
-  const SE3 T_newest_world = keyframe(newest).T_world_camera.inverse();
-  for (const auto& [id, xy] : keyframe(newest).features) {
-    const Track& track = tracks_.at(id);
-    if (track.valid) depths.push_back((T_newest_world * track.p_world).z());
-  }
-  if (depths.size() >= 5) {
-    typical_depth_ = std::clamp(median(depths), kMinWeakDepth, kMaxWeakDepth);
-  }
+  updateTypicalDepth();
   // Observations the refined map does not explain are dropped; a point left with fewer than two
   // is no longer used.
   for (size_t k = 0; k < feature_obs.size(); ++k) {
@@ -254,6 +253,16 @@ void KeyframeWindow::refine() {
     track.keyframes.erase(std::remove(track.keyframes.begin(), track.keyframes.end(), s), track.keyframes.end());
     if (track.keyframes.size() < 2) track.valid = track.initialised = false;
   }
+}
+
+void KeyframeWindow::updateTypicalDepth() {
+  std::vector<double> depths;
+  const SE3 T_newest_world = keyframes_.back().T_world_camera.inverse();
+  for (const auto& [id, xy] : keyframes_.back().features) {
+    const Track& track = tracks_.at(id);
+    if (track.valid) depths.push_back((T_newest_world * track.p_world).z());
+  }
+  if (depths.size() >= 5) typical_depth_ = std::clamp(median(depths), kMinWeakDepth, kMaxWeakDepth);
 }
 
 bool KeyframeWindow::reanchorGap() {

@@ -121,7 +121,16 @@ class KeyframeWindow {
   const Keyframe& keyframe(int serial) const { return keyframes_[serial - first_serial_]; }
   int newestSerial() const { return first_serial_ + numKeyframes() - 1; }
   void triangulate(int id, Track& track) const;
+  // The window's keyframes and map points refined by bundle adjustment (the board's corners fixed
+  // where it is in the window; else older keyframes seeing its points fixed).
   void refine();
+  // The placed map points that the keyframes from `first_free` to the newest see, sorted.
+  std::vector<int> pointsSeenFrom(int first_free) const;
+  // The keyframes before `first_free` that see most of `point_ids` (at least kMinSharedToFix), at
+  // most max_fixed_keyframes: they hold the window in place, fixed.
+  std::vector<int> olderKeyframesToFix(const std::vector<int>& point_ids, int first_free) const;
+  // typical_depth_ from the newest keyframe's map points (the features not yet placed start there).
+  void updateTypicalDepth();
   // The board's return after keyframes without it: returns whether the gap was corrected.
   bool reanchorGap();
   void dropOldest();
