@@ -523,18 +523,7 @@ FrameResult CslamTracker::track(const Frame& frame) {
   std::vector<Vec2> xy;
   {
     const StageTimer timer(&result.stages, "features");
-    if (!pyramid_prev_.empty()) {
-      std::vector<cv::Point2f> predicted;
-      if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
-      features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
-    }
-    xy = featuresNormalised();
-    if (board_motion_) {
-      std::unordered_map<int, Vec2> xy_current;
-      for (size_t i = 0; i < xy.size(); ++i) xy_current.emplace(features_.features()[i].id, xy[i]);
-      board_motion_->advance(xy_previous_, xy_current);
-      xy_previous_ = std::move(xy_current);
-    }
+    xy = trackFeatures(T_world_predicted);
   }
 
   std::optional<SE3> T_world_camera;
@@ -577,33 +566,9 @@ FrameResult CslamTracker::track(const Frame& frame) {
   if (want_overlay_) result.overlay = overlay(board ? &*board : nullptr, T_world_camera);
   {
     const StageTimer timer(&result.stages, "map");
-    const BoardView* board_seen = board ? &*board : nullptr;
-    const bool keyframe = T_world_camera && window_ && prepareKeyframe(frame, *T_world_camera, board_seen);
-    features_.replenish(frame.grey);
-    if (T_world_camera) {
-      xy = featuresNormalised();
-      PosedFrame posed{frame.index, *T_world_camera, {}};
-      for (size_t i = 0; i < xy.size(); ++i) {
-        const int id = features_.features()[i].id;
-        map_->addObservation(id, *T_world_camera, xy[i]);
-        posed.xy_normalised.emplace(id, xy[i]);
-      }
-      if (keyframe) T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board_seen, xy, &result);
-      history_.push_back(std::move(posed));
-      while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
-      if (mode_ == Mode::TwoView && two_view_board_phase_ &&
-          static_cast<int>(mapPointsSeen(xy).p_world.size()) >= options_.two_view_init_map_points)
-        two_view_board_phase_ = false;
-      result.T_world_camera = T_world_camera;
-      ++posed_frames_;
-    }
+    addToMap(frame, board ? &*board : nullptr, &T_world_camera, &result);
   }
-  // The path the map may have drifted over: frames posed without the board add to it, a view of
-  // the board that anchors the map ends it, a strip of the board does neither.
-  if (T_world_camera && !board && last_posed_centre_)
-    path_since_anchor_m_ += (T_world_camera->t() - *last_posed_centre_).norm();
-  if (board && window_ && window_->anchors(static_cast<int>(board->ids.size()))) path_since_anchor_m_ = 0;
-  if (T_world_camera) last_posed_centre_ = T_world_camera->t();
+  updatePathSinceAnchor(T_world_camera, board ? &*board : nullptr);
   last_pose_ = T_world_camera;
   if (!T_world_camera) {
     // Before the board first set the world frame the run is waiting to start, not lost.
@@ -615,6 +580,54 @@ FrameResult CslamTracker::track(const Frame& frame) {
   result.features = static_cast<int>(features_.features().size());
   std::swap(pyramid_prev_, pyramid_);
   return result;
+}
+
+std::vector<Vec2> CslamTracker::trackFeatures(const std::optional<SE3>& T_world_predicted) {
+  if (!pyramid_prev_.empty()) {
+    std::vector<cv::Point2f> predicted;
+    if (T_world_predicted) predicted = predictedFeatures(*T_world_predicted);
+    const cv::Size window(options_.lk_window_px, options_.lk_window_px);
+    features_.track(pyramid_prev_, pyramid_, window, options_.lk_levels, T_world_predicted ? &predicted : nullptr);
+  }
+  std::vector<Vec2> xy = featuresNormalised();
+  if (board_motion_) {
+    std::unordered_map<int, Vec2> xy_current;
+    for (size_t i = 0; i < xy.size(); ++i) xy_current.emplace(features_.features()[i].id, xy[i]);
+    board_motion_->advance(xy_previous_, xy_current);
+    xy_previous_ = std::move(xy_current);
+  }
+  return xy;
+}
+
+void CslamTracker::addToMap(const Frame& frame, const BoardView* board, std::optional<SE3>* T_world_camera,
+                            FrameResult* result) {
+  const bool keyframe = *T_world_camera && window_ && prepareKeyframe(frame, **T_world_camera, board);
+  features_.replenish(frame.grey);
+  if (!*T_world_camera) return;
+  const std::vector<Vec2> xy = featuresNormalised();
+  PosedFrame posed{frame.index, **T_world_camera, {}};
+  for (size_t i = 0; i < xy.size(); ++i) {
+    const int id = features_.features()[i].id;
+    map_->addObservation(id, **T_world_camera, xy[i]);
+    posed.xy_normalised.emplace(id, xy[i]);
+  }
+  if (keyframe) *T_world_camera = posed.T_world_camera = addKeyframe(frame, posed, board, xy, result);
+  history_.push_back(std::move(posed));
+  while (static_cast<int>(history_.size()) > options_.reference_frames) history_.pop_front();
+  if (mode_ == Mode::TwoView && two_view_board_phase_ &&
+      static_cast<int>(mapPointsSeen(xy).p_world.size()) >= options_.two_view_init_map_points)
+    two_view_board_phase_ = false;
+  result->T_world_camera = *T_world_camera;
+  ++posed_frames_;
+}
+
+void CslamTracker::updatePathSinceAnchor(const std::optional<SE3>& T_world_camera, const BoardView* board) {
+  // Frames posed without the board add to it, a view of the board that anchors the map ends it, a
+  // strip of the board does neither.
+  if (T_world_camera && !board && last_posed_centre_)
+    path_since_anchor_m_ += (T_world_camera->t() - *last_posed_centre_).norm();
+  if (board && window_ && window_->anchors(static_cast<int>(board->ids.size()))) path_since_anchor_m_ = 0;
+  if (T_world_camera) last_posed_centre_ = T_world_camera->t();
 }
 
 bool CslamTracker::prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board) {

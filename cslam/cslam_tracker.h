@@ -149,6 +149,15 @@ class CslamTracker : public Tracker {
   MapMotion mapMotion(const SE3& T_world_previous, const SE3& T_world_current, const std::vector<Vec3>& p_world,
                       const std::vector<Vec2>& xy_previous, const std::vector<Vec2>& xy_current) const;
   std::optional<SE3> twoViewPose(const std::vector<Vec2>& xy, FrameResult* result);
+  // The features tracked from the last frame into this one (started where T_world_predicted puts
+  // them), their undistorted normalised coordinates (xy[i] for features()[i]); the board's motion
+  // (board_motion_) advanced with them.
+  std::vector<Vec2> trackFeatures(const std::optional<SE3>& T_world_predicted);
+  // A posed frame's features to the map, the history and (when it is one) the keyframe window,
+  // whose refinement may move *T_world_camera; features replenished either way.
+  void addToMap(const Frame& frame, const BoardView* board, std::optional<SE3>* T_world_camera, FrameResult* result);
+  // path_since_anchor_m_: the path the map may have drifted over since the board last anchored it.
+  void updatePathSinceAnchor(const std::optional<SE3>& T_world_camera, const BoardView* board);
   // Combined mode's refined map: whether this posed frame becomes a keyframe (if so, map points no
   // longer tracked are looked for first, while few are tracked).
   bool prepareKeyframe(const Frame& frame, const SE3& T_world_camera, const BoardView* board);
