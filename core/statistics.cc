@@ -69,4 +69,11 @@ double chiSquaredQuantile(double dof, double probability) {
   return k * std::pow(1 - h + z * std::sqrt(h), 3);
 }
 
+double ransacTrials(double inlier_ratio, int sample_size, double confidence) {
+  const double p_good = std::pow(inlier_ratio, sample_size);
+  if (p_good >= 1.0) return 0;
+  if (!(p_good > 0)) return HUGE_VAL;
+  return std::max(0.0, std::ceil(std::log(1 - confidence) / std::log1p(-p_good)));
+}
+
 }  // namespace slamcmp

@@ -25,4 +25,10 @@ double median(std::vector<double> values);
 // filters' gates and the NEES bounds.
 double chiSquaredQuantile(double dof, double probability);
 
+// Samples to draw for an all-inlier one with probability `confidence`, at this inlier ratio and
+// sample size: log(1 - confidence) / log(1 - ratio^size), rounded up (Fischler and Bolles 1981;
+// COLMAP's ComputeNumTrials); +inf when the ratio is 0. log1p: for ratio^size under 1e-16, 1 - it
+// is 1 in doubles, and the quotient was -inf.
+double ransacTrials(double inlier_ratio, int sample_size, double confidence);
+
 }  // namespace slamcmp

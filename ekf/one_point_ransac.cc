@@ -42,8 +42,8 @@ std::vector<size_t> lowInnovationInliers(const EkfState& state, const std::vecto
     if (support.size() <= best.size()) continue;
     best = std::move(support);
     // As many hypotheses as give an all-inlier draw with `probability`.
-    const double w = std::pow(static_cast<double>(best.size()) / m, static_cast<double>(sample));
-    hypotheses = w >= 1 ? 0 : std::min<double>(options.max_hypotheses, std::log(1 - options.probability) / std::log(1 - w));
+    hypotheses = std::min<double>(options.max_hypotheses, ransacTrials(static_cast<double>(best.size()) / m,
+                                                                       static_cast<int>(sample), options.probability));
   }
   return best;
 }

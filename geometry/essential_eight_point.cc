@@ -1,5 +1,8 @@
 #include "geometry/essential_eight_point.h"
 
+#include <cmath>
+#include <limits>
+
 #include <Eigen/SVD>
 
 #include "geometry/hartley_normalisation.h"
@@ -66,12 +69,16 @@ SE3 selectByCheirality(const Mat3& E, const std::vector<Vec2>& xy_a, const std::
   return best_pose;
 }
 
-double sampsonErrorSquared(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
+double signedSampsonDistance(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
   const Vec3 a = xy_a.homogeneous(), b = xy_b.homogeneous();
   const Vec3 Ea = E * a, Etb = E.transpose() * b;
-  const double r = b.dot(Ea);
   const double d = Ea.x() * Ea.x() + Ea.y() * Ea.y() + Etb.x() * Etb.x() + Etb.y() * Etb.y();
-  return d > 0 ? r * r / d : 0.0;
+  return d > 0 ? b.dot(Ea) / std::sqrt(d) : std::numeric_limits<double>::quiet_NaN();
+}
+
+double sampsonErrorSquared(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
+  const double r = signedSampsonDistance(E, xy_a, xy_b);
+  return std::isfinite(r) ? r * r : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace slamcmp

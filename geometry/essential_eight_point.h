@@ -25,7 +25,11 @@ int countInFront(const SE3& T_b_a, const std::vector<Vec2>& xy_a, const std::vec
 SE3 selectByCheirality(const Mat3& E, const std::vector<Vec2>& xy_a, const std::vector<Vec2>& xy_b,
                        int* in_front = nullptr);
 
-// Sampson distance of a correspondence to x_b^T E x_a = 0, squared, in normalised units.
+// Sampson distance of a correspondence to x_b^T E x_a = 0 (Hartley and Zisserman eq. 11.9), signed
+// (the sign of x_b^T E x_a: a least-squares residual), in normalised units; NaN where it is not
+// defined (x_a and x_b both at their epipoles, a coordinate not finite).
+double signedSampsonDistance(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b);
+// Its square, +inf where it is not defined: such a correspondence fits no model.
 double sampsonErrorSquared(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b);
 
 }  // namespace slamcmp

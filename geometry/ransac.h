@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/statistics.h"  // ransacTrials
 
 namespace slamcmp {
 
@@ -47,6 +48,9 @@ struct RansacResult {
   std::vector<char> inliers;  // one flag per datum
   int num_inliers = 0;
   int iterations = 0;
+  // Stopped at max_iterations before an all-inlier sample was drawn with `confidence` (at the
+  // best model's inlier ratio): the result may be a chance one.
+  bool capped = false;
 };
 
 template <class Estimator>
@@ -88,16 +92,10 @@ RansacResult<typename Estimator::Model> ransac(const Estimator& estimator, const
       best.model = model;
       best.num_inliers = count;
       best.success = true;
-      const double inlier_ratio = static_cast<double>(count) / n;
-      const double p_good = std::pow(inlier_ratio, k);
-      if (p_good >= 1.0) {
-        needed = 0;
-      } else if (p_good > 0) {
-        // Clamped before the cast: a low inlier ratio can ask for more samples than an int holds.
-        // log1p: for p_good under 1e-16, 1 - p_good is 1 in doubles, and the quotient was -inf.
-        const double samples = std::ceil(std::log(1 - options.confidence) / std::log1p(-p_good));
-        needed = samples < options.max_iterations ? static_cast<int>(std::max(samples, 0.0)) : options.max_iterations;
-      }
+      // Clamped before the cast: a low inlier ratio can ask for more samples than an int holds.
+      const double samples = ransacTrials(static_cast<double>(count) / n, k, options.confidence);
+      needed = samples < options.max_iterations ? static_cast<int>(samples) : options.max_iterations;
+      best.capped = samples > options.max_iterations;
     }
   }
   best.iterations = it;
@@ -106,6 +104,34 @@ RansacResult<typename Estimator::Model> ransac(const Estimator& estimator, const
     for (int i = 0; i < n; ++i) best.inliers[i] = estimator.squaredError(best.model, i) < threshold2;
   }
   return best;
+}
+
+// The local optimisation of LO-RANSAC (Chum, Matas and Kittler 2003): the model refitted by the
+// estimator on all of `result`'s inliers (its solver on more than the minimal sample: a least-
+// squares fit), then on the inliers of that, while they grow, at most `max_refits` times. A
+// minimal sample's model through noisy points misses part of the inliers that this finds. The
+// first refit stands with as many inliers as the sample's model had.
+template <class Estimator>
+void refitOnInliers(const Estimator& estimator, const RansacOptions& options, int max_refits,
+                    RansacResult<typename Estimator::Model>* result) {
+  if (!result->success) return;
+  const int n = estimator.numData();
+  const double threshold2 = options.max_error * options.max_error;
+  for (int refit = 0; refit < max_refits; ++refit) {
+    std::vector<int> inliers;
+    for (int i = 0; i < n; ++i)
+      if (result->inliers[i]) inliers.push_back(i);
+    if (static_cast<int>(inliers.size()) < Estimator::kMinSamples) return;
+    for (const auto& model : estimator.estimate(inliers)) {
+      std::vector<char> refitted(n);
+      int count = 0;
+      for (int i = 0; i < n; ++i) count += refitted[i] = estimator.squaredError(model, i) < threshold2;
+      if (count < result->num_inliers || (refit > 0 && count == result->num_inliers)) return;
+      result->model = model;
+      result->num_inliers = count;
+      result->inliers = std::move(refitted);
+    }
+  }
 }
 
 }  // namespace slamcmp

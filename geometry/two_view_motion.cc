@@ -2,11 +2,13 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "core/error.h"
 #include "core/statistics.h"
 #include "geometry/essential_eight_point.h"
+#include "geometry/homography_pose.h"
 
 namespace slamcmp {
 
@@ -14,6 +16,8 @@ void TwoViewOptions::check() const {
   if (min_inliers < 8) throw OptionError("min_inliers", "must be >= 8");
   if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1)) throw OptionError("min_inlier_ratio", "must be in [0, 1]");
   if (refine_iterations < 0) throw OptionError("refine_iterations", "must be >= 0");
+  if (!(max_homography_inlier_ratio > 0 && max_homography_inlier_ratio <= 1))
+    throw OptionError("max_homography_inlier_ratio", "must be in (0, 1]");
   if (min_parallax_px < 0) throw OptionError("min_parallax_px", "must be >= 0");
 }
 
@@ -35,11 +39,33 @@ struct EssentialEstimator {
   double squaredError(const Model& E, int i) const { return focal2 * sampsonErrorSquared(E, xy_a[i], xy_b[i]); }
 };
 
-double signedSampson(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
-  const Vec3 a = xy_a.homogeneous(), b = xy_b.homogeneous();
-  const Vec3 Ea = E * a, Etb = E.transpose() * b;
-  const double d = Ea.x() * Ea.x() + Ea.y() * Ea.y() + Etb.x() * Etb.x() + Etb.y() * Etb.y();
-  return d > 0 ? b.dot(Ea) / std::sqrt(d) : 0.0;
+constexpr int kMaxLocalRefits = 10;
+
+// Homographies between the views by the 4-point DLT; residual: the transfer error, pixels^2.
+struct HomographyEstimator {
+  using Model = Mat3;
+  static constexpr int kMinSamples = 4;
+  const std::vector<Vec2>& xy_a;
+  const std::vector<Vec2>& xy_b;
+  double focal2;
+
+  int numData() const { return static_cast<int>(xy_a.size()); }
+  std::vector<Model> estimate(const std::vector<int>& sample) const {
+    std::vector<Vec2> a, b;
+    for (int i : sample) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
+    return {homographyDlt(a, b)};
+  }
+  double squaredError(const Model& H, int i) const {
+    const double e2 = focal2 * ((H * xy_a[i].homogeneous()).hnormalized() - xy_b[i]).squaredNorm();
+    return std::isfinite(e2) ? e2 : std::numeric_limits<double>::infinity();
+  }
+};
+
+// The refinement's residual: a correspondence whose distance is not defined for this motion (at
+// both epipoles) tells nothing about it.
+double sampsonResidual(const Mat3& E, const Vec2& xy_a, const Vec2& xy_b) {
+  const double r = signedSampsonDistance(E, xy_a, xy_b);
+  return std::isfinite(r) ? r : 0.0;
 }
 
 }  // namespace
@@ -60,7 +86,7 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
   };
   auto residuals = [&](const SE3& T, Eigen::VectorXd* r) {
     const Mat3 E = essentialFromMotion(T);
-    for (int i = 0; i < n; ++i) (*r)(i) = signedSampson(E, a[i], b[i]);
+    for (int i = 0; i < n; ++i) (*r)(i) = sampsonResidual(E, a[i], b[i]);
   };
   const double c2 = cauchy_scale * cauchy_scale;
   auto cost = [&](const Eigen::VectorXd& r) {
@@ -92,7 +118,7 @@ SE3 refineTwoViewMotion(const SE3& T_b_a, const std::vector<Vec2>& a, const std:
     std::array<Mat3, 5> E_step;
     for (int k = 0; k < 5; ++k) E_step[k] = essentialFromMotion(apply(T, 1e-7 * Vec5::Unit(k)));
     for (int i = 0; i < n; ++i)
-      for (int k = 0; k < 5; ++k) J(i, k) = (signedSampson(E_step[k], a[i], b[i]) - r(i)) / 1e-7;
+      for (int k = 0; k < 5; ++k) J(i, k) = (sampsonResidual(E_step[k], a[i], b[i]) - r(i)) / 1e-7;
     Eigen::VectorXd rw = r;
     if (c2 > 0) {  // iteratively reweighted: the Cauchy loss's weight 1 / (1 + r^2 / c^2) at the current residuals
       const Eigen::VectorXd sqrt_w = (1 + r.array().square() / c2).rsqrt();
@@ -134,23 +160,20 @@ TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::ve
     return out;
   }
   const EssentialEstimator estimator{xy_a, xy_b, focal_px * focal_px};
-  const auto r = ransac(estimator, options.ransac);
+  auto r = ransac(estimator, options.ransac);
   if (!r.success) {
     out.reason = "two-view RANSAC found no model";
     return out;
   }
-  // Refinement: the 8-point solution on all inliers, then the inliers of that.
+  // Said with the result when too few inliers follow: the samples ran out first.
+  const std::string capped = r.capped ? " (RANSAC stopped at its " + std::to_string(options.ransac.max_iterations) +
+                                            " samples before its confidence)"
+                                      : "";
+  // Refinement: the 8-point solution on all inliers, then on the inliers of that while they grow.
+  refitOnInliers(estimator, options.ransac, kMaxLocalRefits, &r);
   std::vector<Vec2> a, b;
-  for (int i = 0; i < n; ++i)
-    if (r.inliers[i]) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
   const double t2 = options.ransac.max_error * options.ransac.max_error;
-  Mat3 E = r.model;
-  if (a.size() >= 8) {
-    const Mat3 refined = essentialEightPoint(a, b);
-    int count = 0;
-    for (int i = 0; i < n; ++i) count += estimator.squaredError(refined, i) < t2;
-    if (count >= r.num_inliers) E = refined;
-  }
+  const Mat3 E = r.model;
   // Inliers of E, the (R, t) in front, Levenberg-Marquardt on those inliers; then once more on
   // the inliers of the refined motion.
   auto collectInliers = [&](const Mat3& model) {
@@ -171,7 +194,8 @@ TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::ve
     }
   }
   if (out.num_inliers < options.min_inliers || out.num_inliers < options.min_inlier_ratio * n) {
-    out.reason = "too few two-view inliers (" + std::to_string(out.num_inliers) + " of " + std::to_string(n) + ")";
+    out.reason =
+        "too few two-view inliers (" + std::to_string(out.num_inliers) + " of " + std::to_string(n) + ")" + capped;
     return out;
   }
   // Parallax once the rotation is removed: what the translation alone moved the features.
@@ -184,6 +208,29 @@ TwoViewResult estimateTwoViewMotion(const std::vector<Vec2>& xy_a, const std::ve
     out.degenerate = true;
     out.reason = "degenerate two-view motion (parallax " + std::to_string(out.parallax_px) + " px: tiny baseline or pure rotation)";
     return out;
+  }
+  if (options.max_homography_inlier_ratio < 1) {
+    const HomographyEstimator homography{a, b, focal_px * focal_px};
+    RansacOptions h_options = options.ransac;
+    // The transfer error carries both views' noise over 2 dof, where the Sampson distance is the
+    // first-order distance to a 1-dof constraint: at the same probability (95 %; ORB-SLAM's H and
+    // F scores) its threshold is sqrt(2 chi2_2 / chi2_1) = 1.77 times.
+    h_options.max_error *= std::sqrt(2 * chiSquaredQuantile(2, 0.95) / chiSquaredQuantile(1, 0.95));
+    // Only a homography with that many inliers matters: the samples that draw one all-inlier
+    // sample of it with RANSAC's confidence are enough (14 at 0.8), where a homography that fits
+    // few of them (a scene in depth) would run RANSAC to its cap.
+    const double trials = ransacTrials(options.max_homography_inlier_ratio, HomographyEstimator::kMinSamples,
+                                       h_options.confidence);
+    h_options.min_iterations = h_options.max_iterations =
+        std::max(1, static_cast<int>(std::min<double>(h_options.max_iterations, trials)));
+    auto h = ransac(homography, h_options);
+    refitOnInliers(homography, h_options, kMaxLocalRefits, &h);
+    if (h.success && h.num_inliers >= options.max_homography_inlier_ratio * out.num_inliers) {
+      out.planar = true;
+      out.reason = "planar scene: a homography explains " + std::to_string(h.num_inliers) + " of the " +
+                   std::to_string(out.num_inliers) + " two-view inliers (no essential matrix is determined)";
+      return out;
+    }
   }
   if (in_front < 0.9 * out.num_inliers) {
     out.reason = "two-view cheirality ambiguous (" + std::to_string(in_front) + " of " + std::to_string(out.num_inliers) + " in front)";
