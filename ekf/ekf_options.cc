@@ -47,6 +47,7 @@ void ActiveSearchOptions::check() const {
   require(joint_gate > 0 && joint_gate < 1, "joint_gate", "must be in (0, 1)");
   require(consistency_gate > 0 && consistency_gate < 1, "consistency_gate", "must be in (0, 1)");
   require(min_variance_factor >= 0 && min_variance_factor <= 1, "min_variance_factor", "must be in [0, 1]");
+  require(consistency_core_min == 0 || consistency_core_min >= 4, "consistency_core_min", "must be 0 or at least 4");
   require(source_size >= patch_size && source_size % 2 == 1, "source_size",
           "must be odd and at least patch_size, got " + std::to_string(source_size));
   require(rolling_shutter_readout >= 0 && rolling_shutter_readout <= 1, "rolling_shutter_readout",

@@ -72,6 +72,12 @@ struct ActiveSearchOptions {
   // (1 px assumed, matches found to a third of it) hides a look-alike a few pixels off (README).
   // 0: S as assumed.
   double min_variance_factor = 0.1;
+  // With this many matches or more, each match is also tested against the prediction of the most
+  // consistent half of the others (the half with the smallest statistics against all the rest),
+  // with their noise: two look-alikes matched off in the same direction, which one pose error
+  // explains, mask each other in the test against all the others (vamr_checkerboard frames 307
+  // and 325: two patches off the board matched 7-12 px off carried the camera 10 mm). 0: not.
+  int consistency_core_min = 6;
   int source_size = 41;              // pixels, the stored crop of the first view the template is warped from
   // A rolling shutter's readout, seconds from the top row's read to the bottom row's (0: a global
   // shutter; ekf/rolling_shutter.h): the map's patch features are searched where their rows are
@@ -96,6 +102,9 @@ struct ActiveSearchOptions {
     v("min_variance_factor", min_variance_factor,
       "that test with the noise the other matches show (Pope's tau test): the variance factor of their innovations, "
       "at least this, never looser than the test as assumed; 0: the innovations' covariance as assumed");
+    v("consistency_core_min", consistency_core_min,
+      "with this many matches or more each is also tested against the most consistent half of the others "
+      "(agreeing look-alikes mask each other in the test against all of them); 0: not");
     v("source_size", source_size, "pixels, crop of the first view kept for warping the template");
     v("rolling_shutter_readout", rolling_shutter_readout,
       "seconds from reading the image's top row to its bottom row, the middle row at the frame's time "

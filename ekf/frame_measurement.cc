@@ -41,6 +41,26 @@ double tauThreshold(double others_d2, int dof, double f_quantile, double chi2_th
   return std::isfinite(threshold) ? std::min(threshold, chi2_threshold) : chi2_threshold;
 }
 
+// The chi2 (2 dof) of match k given the matches `others` (k not among them), from the joint
+// innovation covariance S and innovations nu of all the matches, and the others' own joint NIS.
+struct ConditionalStatistic {
+  double d2 = 0;
+  double others_nis = 0;
+};
+ConditionalStatistic conditionalStatistic(const Eigen::MatrixXd& S, const Eigen::VectorXd& nu, int k,
+                                          const std::vector<int>& others) {
+  std::vector<int> rows;
+  for (int o : others) rows.insert(rows.end(), {2 * o, 2 * o + 1});
+  const Eigen::MatrixXd S_oo = S(rows, rows);
+  const Eigen::MatrixXd S_ko = S({2 * k, 2 * k + 1}, rows);
+  const Eigen::VectorXd nu_o = nu(rows);
+  const Eigen::LDLT<Eigen::MatrixXd> S_oo_ldlt(S_oo);
+  const Eigen::VectorXd S_oo_inv_nu = S_oo_ldlt.solve(nu_o);
+  const Vec2 r = nu.segment<2>(2 * k) - S_ko * S_oo_inv_nu;  // k's innovation about the others' prediction
+  const Mat2 C = S.block<2, 2>(2 * k, 2 * k) - S_ko * S_oo_ldlt.solve(S_ko.transpose());
+  return {r.dot(C.inverse() * r), nu_o.dot(S_oo_inv_nu)};
+}
+
 // Joint compatibility among each searched feature's candidates, then each match against the
 // others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order,
 // and the kept matches' joint NIS in *nis.
@@ -66,7 +86,8 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
   *nis = 0;
   while (!observations.empty()) {
     const int m = static_cast<int>(observations.size());
-    const Eigen::LDLT<Eigen::MatrixXd> S(innovationCovariance(state, observations, so.pixel_sigma));
+    const Eigen::MatrixXd S_full = innovationCovariance(state, observations, so.pixel_sigma);
+    const Eigen::LDLT<Eigen::MatrixXd> S(S_full);
     Eigen::VectorXd nu(2 * m);
     for (int k = 0; k < m; ++k) nu.segment<2>(2 * k) = observations[k].z - observations[k].h.uv_distorted;
     const Eigen::VectorXd S_inv_nu = S.solve(nu);
@@ -76,17 +97,41 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
     const Eigen::MatrixXd S_inv = S.solve(Eigen::MatrixXd::Identity(2 * m, 2 * m));
     const bool tau = so.min_variance_factor > 0 && m >= kMinMatchesForVarianceFactor;
     const double f_quantile = tau ? fisherQuantile2(2 * m - 2, so.consistency_gate) : 0;
-    int worst = -1;
-    double worst_d2 = consistency_threshold;
+    std::vector<double> d2_all(m);  // each match's chi2 given all the others
     for (int k = 0; k < m; ++k) {
       // (S^-1 nu)_k^T ((S^-1)_kk)^-1 (S^-1 nu)_k: the chi2 of match k given all the others.
       const Vec2 a = S_inv_nu.segment<2>(2 * k);
-      double d2 = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+      d2_all[k] = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
+    }
+    // The most consistent half of the matches (the smallest d2_all), for the test against them.
+    std::vector<int> core;
+    if (so.consistency_core_min > 0 && m >= so.consistency_core_min) {
+      std::vector<int> order(m);
+      for (int k = 0; k < m; ++k) order[k] = k;
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d2_all[a] < d2_all[b]; });
+      core.assign(order.begin(), order.begin() + (m + 1) / 2);
+    }
+    int worst = -1;
+    double worst_d2 = consistency_threshold;
+    for (int k = 0; k < m; ++k) {
+      double d2 = d2_all[k];
       // On the chi2 threshold's scale, so that the worst is the least likely (a statistic that is
       // not a number counts as the worst).
       if (tau)
         d2 *= consistency_threshold /
               tauThreshold(joint - d2, 2 * m - 2, f_quantile, consistency_threshold, so.min_variance_factor);
+      if (!core.empty()) {  // and against the core (k left out of it), with the core's noise
+        std::vector<int> others;
+        for (int c : core)
+          if (c != k) others.push_back(c);
+        const ConditionalStatistic c = conditionalStatistic(S_full, nu, k, others);
+        const int dof = 2 * static_cast<int>(others.size());
+        double d2_core = c.d2;
+        if (tau)
+          d2_core *= consistency_threshold / tauThreshold(c.others_nis, dof, fisherQuantile2(dof, so.consistency_gate),
+                                                          consistency_threshold, so.min_variance_factor);
+        d2 = std::isfinite(d2_core) ? std::max(d2, d2_core) : std::numeric_limits<double>::infinity();
+      }
       if (!std::isfinite(d2)) d2 = std::numeric_limits<double>::infinity();
       if (d2 > worst_d2) {
         worst_d2 = d2;
