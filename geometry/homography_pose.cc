@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "geometry/hartley_normalisation.h"
@@ -27,6 +28,17 @@ Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
   // The SVD's sign is arbitrary; the points seen are all on one side of the plane's horizon.
   if ((H * src.front().homogeneous()).z() < 0) H = -H;
   return H / H.norm();
+}
+
+bool spansAPlane(const std::vector<Vec2>& points) {
+  if (points.size() < 3) return false;
+  Vec2 mean = Vec2::Zero();
+  for (const Vec2& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Mat2 scatter = Mat2::Zero();
+  for (const Vec2& p : points) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Mat2> eigen(scatter);
+  return eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(1);
 }
 
 std::vector<double> homographyErrors(const Mat3& H, const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {

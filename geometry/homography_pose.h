@@ -20,6 +20,12 @@ namespace slamcmp {
 // coordinate (a point beyond the plane's horizon, then, has a negative one).
 Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst);
 
+// Whether the points are not all on one line (at least 3, their scatter's smaller principal
+// variance above 1e-9 of the larger): what homographyDlt and boardPose need. A partial board's
+// single row gives a homography, and a pose, that are anything (a review: 180 degrees off, its
+// translation NaN).
+bool spansAPlane(const std::vector<Vec2>& points);
+
 // Transfer error |dst - H src| per point, in the units of dst.
 std::vector<double> homographyErrors(const Mat3& H, const std::vector<Vec2>& src, const std::vector<Vec2>& dst);
 

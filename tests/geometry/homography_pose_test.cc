@@ -64,6 +64,31 @@ TEST(HomographyDlt, SignPutsTheSeenPointsInFront) {
   }
 }
 
+// A partial board's corners on one row, column or diagonal of the grid give no homography (its
+// DLT has a two-dimensional null space: a pose 180 degrees off with a NaN translation); two rows,
+// or a row and one corner off it, do.
+TEST(HomographyDlt, OneLineOfCornersDoesNotSpanTheBoard) {
+  const auto grid = [](std::initializer_list<std::pair<int, int>> ij) {
+    std::vector<Vec2> points;
+    for (const auto& [i, j] : ij) points.emplace_back(0.04 * i, 0.04 * j);
+    return points;
+  };
+  std::vector<Vec2> row, column, diagonal, two_rows;
+  for (int k = 0; k < 9; ++k) {
+    row.emplace_back(0.04 * k, 0.08);
+    column.emplace_back(0.12, 0.04 * k);
+    diagonal.emplace_back(0.04 * k, 0.04 * k);
+    two_rows.emplace_back(0.04 * k, 0.04 * (k % 2));
+  }
+  EXPECT_FALSE(spansAPlane(row));
+  EXPECT_FALSE(spansAPlane(column));
+  EXPECT_FALSE(spansAPlane(diagonal));
+  EXPECT_FALSE(spansAPlane(grid({{0, 0}, {1, 1}})));
+  EXPECT_TRUE(spansAPlane(two_rows));
+  EXPECT_TRUE(spansAPlane(grid({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {1, 1}})));
+  EXPECT_TRUE(spansAPlane(grid({{0, 0}, {1, 0}, {0, 1}})));
+}
+
 // With 0.3 px corner noise: the refined pose and OpenCV's iterative PnP minimise the same
 // reprojection error, so they agree to 1e-6 m and 1e-4 degree. Against the truth: the board spans
 // 130 to 330 px (0.5 to 1.3 m), so 0.3 px noise leaves a few millimetres and, the tilt of a small
