@@ -8,7 +8,7 @@
 #include "core/error.h"
 #include "core/statistics.h"
 #include "geometry/essential_eight_point.h"
-#include "geometry/homography_pose.h"
+#include "geometry/two_view_estimators.h"
 
 namespace slamcmp {
 
@@ -23,43 +23,7 @@ void TwoViewOptions::check() const {
 
 namespace {
 
-struct EssentialEstimator {
-  using Model = Mat3;
-  static constexpr int kMinSamples = 8;
-  const std::vector<Vec2>& xy_a;
-  const std::vector<Vec2>& xy_b;
-  double focal2;  // focal_px^2: Sampson distances in pixels^2
-
-  int numData() const { return static_cast<int>(xy_a.size()); }
-  std::vector<Model> estimate(const std::vector<int>& sample) const {
-    std::vector<Vec2> a, b;
-    for (int i : sample) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
-    return {essentialEightPoint(a, b)};
-  }
-  double squaredError(const Model& E, int i) const { return focal2 * sampsonErrorSquared(E, xy_a[i], xy_b[i]); }
-};
-
 constexpr int kMaxLocalRefits = 10;
-
-// Homographies between the views by the 4-point DLT; residual: the transfer error, pixels^2.
-struct HomographyEstimator {
-  using Model = Mat3;
-  static constexpr int kMinSamples = 4;
-  const std::vector<Vec2>& xy_a;
-  const std::vector<Vec2>& xy_b;
-  double focal2;
-
-  int numData() const { return static_cast<int>(xy_a.size()); }
-  std::vector<Model> estimate(const std::vector<int>& sample) const {
-    std::vector<Vec2> a, b;
-    for (int i : sample) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
-    return {homographyDlt(a, b)};
-  }
-  double squaredError(const Model& H, int i) const {
-    const double e2 = focal2 * ((H * xy_a[i].homogeneous()).hnormalized() - xy_b[i]).squaredNorm();
-    return std::isfinite(e2) ? e2 : std::numeric_limits<double>::infinity();
-  }
-};
 
 // The refinement's residual: a correspondence whose distance is not defined for this motion (at
 // both epipoles) tells nothing about it.

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "geometry/essential_eight_point.h"
+#include "geometry/two_view_estimators.h"
 #include "geometry/two_view_motion.h"
 
 namespace slamcmp {
@@ -130,24 +131,9 @@ TEST(Ransac, FewerDataThanASampleFails) {
   EXPECT_TRUE(result.inliers.empty());
 }
 
-// The eight-point essential matrix (as two_view_motion uses it) on exact correspondences, 30 %
+// The eight-point essential matrix (two_view_motion's estimator) on exact correspondences, 30 %
 // of them replaced by mismatches whose Sampson distance under the true E is over 10 times the
 // 1 px threshold: the inliers returned are exactly the planted ones.
-struct EssentialEstimator {
-  using Model = Mat3;
-  static constexpr int kMinSamples = 8;
-  const std::vector<Vec2>& xy_a;
-  const std::vector<Vec2>& xy_b;
-  double focal2;
-  int numData() const { return static_cast<int>(xy_a.size()); }
-  std::vector<Model> estimate(const std::vector<int>& sample) const {
-    std::vector<Vec2> a, b;
-    for (int i : sample) a.push_back(xy_a[i]), b.push_back(xy_b[i]);
-    return {essentialEightPoint(a, b)};
-  }
-  double squaredError(const Model& E, int i) const { return focal2 * sampsonErrorSquared(E, xy_a[i], xy_b[i]); }
-};
-
 struct PlantedMatches {
   std::vector<Vec2> xy_a, xy_b;
   std::vector<char> inlier;
