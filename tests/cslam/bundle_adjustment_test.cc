@@ -152,19 +152,24 @@ TEST(BundleAdjustment, PointsOnRaysFindTheirDepthAndHoldRotations) {
   EXPECT_LT(rotationAngle(far.camera(turned).R() * T_world_turned.R()), 1e-6);
 }
 
-// A prior on a point holds it where earlier data put it.
+// A prior on a point holds it where earlier data put it: started where the views put it, 10 cm
+// off the prior, a tight prior moves it there (the test had started it at the prior, which a solve
+// doing nothing passed); a loose one leaves it to the views.
 TEST(BundleAdjustment, PointPriorHoldsAPoint) {
   const SE3 T_world_a, T_world_b = SE3::fromRotvec(Vec3(0, 0.05, 0), Vec3(0.1, 0, 0));
   const Vec3 truth(0.1, 0.05, 1.2), prior(0.1, 0.05, 1.3);
-  BundleAdjustment ba;
-  ba.addCamera(T_world_a.inverse(), true);
-  ba.addCamera(T_world_b.inverse(), true);
-  const int p = ba.addPoint(prior, false);
-  ba.addObservation(0, p, project(T_world_a, truth), 1.0);
-  ba.addObservation(1, p, project(T_world_b, truth), 1.0);
-  ba.addPointPrior(p, prior, 1e-6);
-  ba.solve(BundleAdjustmentOptions{}, kFocalPx);
-  EXPECT_LT((ba.point(p) - prior).norm(), 1e-4);
+  for (const double sigma_m : {1e-6, 10.0}) {
+    SCOPED_TRACE(sigma_m);
+    BundleAdjustment ba;
+    ba.addCamera(T_world_a.inverse(), true);
+    ba.addCamera(T_world_b.inverse(), true);
+    const int p = ba.addPoint(truth, false);
+    ba.addObservation(0, p, project(T_world_a, truth), 1.0);
+    ba.addObservation(1, p, project(T_world_b, truth), 1.0);
+    ba.addPointPrior(p, prior, sigma_m);
+    ba.solve(BundleAdjustmentOptions{}, kFocalPx);
+    EXPECT_LT((ba.point(p) - (sigma_m < 1 ? prior : truth)).norm(), 1e-4);
+  }
 }
 
 // A chain of poses whose measured motions are consistent with the poses is left alone; one that
