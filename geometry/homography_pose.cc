@@ -30,15 +30,22 @@ Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
   return H / H.norm();
 }
 
-bool spansAPlane(const std::vector<Vec2>& points) {
-  if (points.size() < 3) return false;
-  Vec2 mean = Vec2::Zero();
-  for (const Vec2& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Mat2 scatter = Mat2::Zero();
-  for (const Vec2& p : points) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Mat2> eigen(scatter);
-  return eigen.eigenvalues()(0) > 1e-9 * eigen.eigenvalues()(1);
+bool determinesAHomography(const std::vector<Vec2>& points) {
+  if (points.size() < 4) return false;
+  for (const Vec2& p : points)
+    if (!p.allFinite()) return false;
+  const Mat3 T = hartleyNormalisation(points);
+  // A^T A of the DLT rows for H = I (d = s): its eigenvalues are A's singular values squared.
+  Eigen::Matrix<double, 9, 9> AtA = Eigen::Matrix<double, 9, 9>::Zero();
+  for (const Vec2& p : points) {
+    const Vec3 s = T * p.homogeneous();
+    Eigen::Matrix<double, 2, 9> rows;
+    rows << 0, 0, 0, -s.z() * s.transpose(), s.y() * s.transpose(), s.z() * s.transpose(), 0, 0, 0,
+        -s.x() * s.transpose();
+    AtA += rows.transpose() * rows;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eigen(AtA, Eigen::EigenvaluesOnly);
+  return eigen.eigenvalues()(1) > 1e-12 * eigen.eigenvalues()(8);  // (1e-6)^2
 }
 
 std::vector<double> homographyErrors(const Mat3& H, const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {

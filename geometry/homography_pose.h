@@ -20,11 +20,12 @@ namespace slamcmp {
 // coordinate (a point beyond the plane's horizon, then, has a negative one).
 Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst);
 
-// Whether the points are not all on one line (at least 3, their scatter's smaller principal
-// variance above 1e-9 of the larger): what homographyDlt and boardPose need. A partial board's
-// single row gives a homography, and a pose, that are anything (a review: 180 degrees off, its
-// translation NaN).
-bool spansAPlane(const std::vector<Vec2>& points);
+// Whether the points determine a homography (homographyDlt and boardPose need it): four of them
+// with no three on a line. Their DLT onto themselves then has a one-dimensional null space: its
+// second smallest singular value is above 1e-6 of the largest (Hartley-normalised). A partial
+// board's single row gives a homography and a pose that are anything (a review: 180 degrees off,
+// its translation NaN), and a row with one corner off it too (up to 180 degrees).
+bool determinesAHomography(const std::vector<Vec2>& points);
 
 // Transfer error |dst - H src| per point, in the units of dst.
 std::vector<double> homographyErrors(const Mat3& H, const std::vector<Vec2>& src, const std::vector<Vec2>& dst);

@@ -24,9 +24,11 @@ struct TwoViewOptions {
   // Degeneracy: the median parallax left after removing the rotation (tiny baseline or pure
   // rotation: the translation direction is then noise).
   double min_parallax_px = 2.0;
-  // Degeneracy: points on one plane fit a family of essential matrices (Hartley and Zisserman
-  // 11.9), RANSAC's among them: a homography explaining this fraction of E's inliers at the same
-  // threshold marks the scene planar (COLMAP's max_H_inlier_ratio).
+  // Degeneracy: points on one plane fit a family of matrices to the 8-point solver (Hartley and
+  // Zisserman 11.9), RANSAC's among them: a homography explaining this fraction of E's inliers
+  // (at the same probability) marks the scene planar (COLMAP's max_H_inlier_ratio). A scene in
+  // depth whose parallax off a plane is within the noise is taken for one too (2-4 m deep, 0.3 px
+  // noise: most pairs under 3.5 px of median parallax, none over 5).
   double max_homography_inlier_ratio = 0.8;
   int refine_iterations = 5;       // Levenberg-Marquardt on the inliers' Sampson distances
   template <class V>

@@ -204,7 +204,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
     plane.push_back(gridOf(target_, kept.ids[k]));
     undistorted.push_back(camera.undistortToPixel(Vec2(kept.uv[k].x, kept.uv[k].y)));
   }
-  if (!spansAPlane(plane)) return false;  // one row, column or diagonal: no homography, no pose
+  if (!determinesAHomography(plane)) return false;  // e.g. one row of the board: no homography, no pose
   // Each corner's four squares, sampled near it (within the refinement's window), must show
   // their colours: a corner beside the edge of something hiding part of the board has the
   // refinement pulled off it.
@@ -275,7 +275,7 @@ bool BoardCornerTracker::confirmCorners(const cv::Mat& grey, BoardCorners* c, co
     undistorted = std::move(fitting_undistorted);
     errors = std::move(fitting_errors);
   }
-  if (!spansAPlane(plane)) return false;  // corners dropped down to one row, column or diagonal
+  if (!determinesAHomography(plane)) return false;  // corners dropped down to one row, or near it
   kept.complete = static_cast<int>(kept.ids.size()) == target_.numCorners();
   double sum = 0;
   for (double e : errors) sum += e * e;

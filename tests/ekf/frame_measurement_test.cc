@@ -78,6 +78,7 @@ TEST(FrameMeasurement, WithoutTheConsistencyCheckTheSlippedMatchIsUsed) {
   Scene scene(6.0);
   ActiveSearchOptions options;
   options.consistency_gate = 1 - 1e-12;
+  options.consistency_core_min = 0;
   options.joint_gate = 1 - 1e-12;
   const FrameMeasurement m = measureFeatures(scene.state, scene.features, scene.camera, scene.grey, options);
   EXPECT_EQ(m.matched, 9);
@@ -169,6 +170,7 @@ TEST(FrameMeasurement, JointNisOfTheKeptMatchesBeforeTheUpdate) {
   const EkfState unchecked_prior = unchecked.state;
   ActiveSearchOptions loose;
   loose.consistency_gate = 1 - 1e-12;
+  loose.consistency_core_min = 0;
   loose.joint_gate = 1 - 1e-12;
   const FrameMeasurement used = measureFeatures(unchecked.state, unchecked.features, unchecked.camera, unchecked.grey, loose);
   ASSERT_EQ(used.matched, 9);

@@ -64,10 +64,11 @@ TEST(HomographyDlt, SignPutsTheSeenPointsInFront) {
   }
 }
 
-// A partial board's corners on one row, column or diagonal of the grid give no homography (its
-// DLT has a two-dimensional null space: a pose 180 degrees off with a NaN translation); two rows,
-// or a row and one corner off it, do.
-TEST(HomographyDlt, OneLineOfCornersDoesNotSpanTheBoard) {
+// A partial board's corners on one row, column or diagonal of the grid, or a row with one corner
+// off it, determine no homography (the DLT keeps a second null direction: a pose up to 180 degrees
+// off); two rows, a row with two corners off it, or four in general position do. And where they
+// do, the homography through them is the exact one.
+TEST(HomographyDlt, OneLineOfCornersDoesNotDetermineTheHomography) {
   const auto grid = [](std::initializer_list<std::pair<int, int>> ij) {
     std::vector<Vec2> points;
     for (const auto& [i, j] : ij) points.emplace_back(0.04 * i, 0.04 * j);
@@ -80,13 +81,21 @@ TEST(HomographyDlt, OneLineOfCornersDoesNotSpanTheBoard) {
     diagonal.emplace_back(0.04 * k, 0.04 * k);
     two_rows.emplace_back(0.04 * k, 0.04 * (k % 2));
   }
-  EXPECT_FALSE(spansAPlane(row));
-  EXPECT_FALSE(spansAPlane(column));
-  EXPECT_FALSE(spansAPlane(diagonal));
-  EXPECT_FALSE(spansAPlane(grid({{0, 0}, {1, 1}})));
-  EXPECT_TRUE(spansAPlane(two_rows));
-  EXPECT_TRUE(spansAPlane(grid({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {1, 1}})));
-  EXPECT_TRUE(spansAPlane(grid({{0, 0}, {1, 0}, {0, 1}})));
+  EXPECT_FALSE(determinesAHomography(row));
+  EXPECT_FALSE(determinesAHomography(column));
+  EXPECT_FALSE(determinesAHomography(diagonal));
+  EXPECT_FALSE(determinesAHomography(grid({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}, {6, 0}, {7, 0}, {3, 1}})));
+  EXPECT_FALSE(determinesAHomography(grid({{0, 0}, {1, 0}, {0, 1}})));
+  EXPECT_TRUE(determinesAHomography(two_rows));
+  EXPECT_TRUE(determinesAHomography(grid({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}, {6, 0}, {7, 0}, {3, 1}, {5, 1}})));
+  EXPECT_TRUE(determinesAHomography(grid({{0, 0}, {1, 0}, {0, 1}, {1, 1}})));
+  // Where it is determined, the DLT through the points recovers a homography exactly.
+  Mat3 H;
+  H << 1.1, 0.2, 0.3, -0.1, 0.9, 0.2, 0.05, 0.02, 1.0;
+  const std::vector<Vec2> src = grid({{0, 0}, {1, 0}, {0, 1}, {1, 1}});
+  std::vector<Vec2> dst;
+  for (const Vec2& p : src) dst.push_back((H * p.homogeneous()).hnormalized());
+  EXPECT_LT((homographyDlt(src, dst) - H / H.norm()).norm(), 1e-9);
 }
 
 // With 0.3 px corner noise: the refined pose and OpenCV's iterative PnP minimise the same
