@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -41,25 +42,38 @@ double tauThreshold(double others_d2, int dof, double f_quantile, double chi2_th
   return std::isfinite(threshold) ? std::min(threshold, chi2_threshold) : chi2_threshold;
 }
 
-// The chi2 (2 dof) of match k given the matches `others` (k not among them), from the joint
-// innovation covariance S and innovations nu of all the matches, and the others' own joint NIS.
-struct ConditionalStatistic {
-  double d2 = 0;
-  double others_nis = 0;
+// The matches `others` as a prediction of any other match k, from the joint innovation
+// covariance S and innovations nu of all the matches: factorised once, asked for each k.
+class ConditionalOn {
+ public:
+  ConditionalOn(const Eigen::MatrixXd& S, const Eigen::VectorXd& nu, const std::vector<int>& others)
+      : S_(S), nu_(nu) {
+    for (int o : others) rows_.insert(rows_.end(), {2 * o, 2 * o + 1});
+    S_oo_.compute(S(rows_, rows_));
+    const Eigen::VectorXd nu_o = nu(rows_);
+    S_oo_inv_nu_ = S_oo_.solve(nu_o);
+    others_nis_ = nu_o.dot(S_oo_inv_nu_);
+    dof_ = 2 * static_cast<int>(others.size());
+  }
+  // The chi2 (2 dof) of match k (not among the others) given them.
+  double d2(int k) const {
+    const Eigen::MatrixXd S_ko = S_({2 * k, 2 * k + 1}, rows_);
+    const Vec2 r = nu_.segment<2>(2 * k) - S_ko * S_oo_inv_nu_;  // k's innovation about the others' prediction
+    const Mat2 C = S_.block<2, 2>(2 * k, 2 * k) - S_ko * S_oo_.solve(S_ko.transpose());
+    return r.dot(C.inverse() * r);
+  }
+  double othersNis() const { return others_nis_; }  // the others' own joint NIS
+  int dof() const { return dof_; }
+
+ private:
+  const Eigen::MatrixXd& S_;
+  const Eigen::VectorXd& nu_;
+  std::vector<int> rows_;
+  Eigen::LDLT<Eigen::MatrixXd> S_oo_;
+  Eigen::VectorXd S_oo_inv_nu_;
+  double others_nis_ = 0;
+  int dof_ = 0;
 };
-ConditionalStatistic conditionalStatistic(const Eigen::MatrixXd& S, const Eigen::VectorXd& nu, int k,
-                                          const std::vector<int>& others) {
-  std::vector<int> rows;
-  for (int o : others) rows.insert(rows.end(), {2 * o, 2 * o + 1});
-  const Eigen::MatrixXd S_oo = S(rows, rows);
-  const Eigen::MatrixXd S_ko = S({2 * k, 2 * k + 1}, rows);
-  const Eigen::VectorXd nu_o = nu(rows);
-  const Eigen::LDLT<Eigen::MatrixXd> S_oo_ldlt(S_oo);
-  const Eigen::VectorXd S_oo_inv_nu = S_oo_ldlt.solve(nu_o);
-  const Vec2 r = nu.segment<2>(2 * k) - S_ko * S_oo_inv_nu;  // k's innovation about the others' prediction
-  const Mat2 C = S.block<2, 2>(2 * k, 2 * k) - S_ko * S_oo_ldlt.solve(S_ko.transpose());
-  return {r.dot(C.inverse() * r), nu_o.dot(S_oo_inv_nu)};
-}
 
 // Joint compatibility among each searched feature's candidates, then each match against the
 // others' prediction of it. Sets the chosen z and returns the indices kept, in increasing order,
@@ -103,13 +117,17 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
       const Vec2 a = S_inv_nu.segment<2>(2 * k);
       d2_all[k] = a.dot(S_inv.block<2, 2>(2 * k, 2 * k).inverse() * a);
     }
-    // The most consistent half of the matches (the smallest d2_all), for the test against them.
+    // The most consistent half of the matches (the smallest d2_all), for the test against them:
+    // a match outside it is tested against all of it (factorised once), one inside it against the
+    // rest of it.
     std::vector<int> core;
+    std::optional<ConditionalOn> on_core;
     if (so.consistency_core_min > 0 && m >= so.consistency_core_min) {
       std::vector<int> order(m);
       for (int k = 0; k < m; ++k) order[k] = k;
       std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return d2_all[a] < d2_all[b]; });
       core.assign(order.begin(), order.begin() + (m + 1) / 2);
+      on_core.emplace(S_full, nu, core);
     }
     int worst = -1;
     double worst_d2 = consistency_threshold;
@@ -120,15 +138,19 @@ std::vector<size_t> jointlyCompatible(const EkfState& state, std::vector<PointOb
       if (tau)
         d2 *= consistency_threshold /
               tauThreshold(joint - d2, 2 * m - 2, f_quantile, consistency_threshold, so.min_variance_factor);
-      if (!core.empty()) {  // and against the core (k left out of it), with the core's noise
-        std::vector<int> others;
-        for (int c : core)
-          if (c != k) others.push_back(c);
-        const ConditionalStatistic c = conditionalStatistic(S_full, nu, k, others);
-        const int dof = 2 * static_cast<int>(others.size());
-        double d2_core = c.d2;
+      if (on_core) {  // and against the core (k left out of it), with the core's noise
+        std::optional<ConditionalOn> on_rest;
+        if (std::find(core.begin(), core.end(), k) != core.end()) {
+          std::vector<int> others;
+          for (int c : core)
+            if (c != k) others.push_back(c);
+          on_rest.emplace(S_full, nu, others);
+        }
+        const ConditionalOn& c = on_rest ? *on_rest : *on_core;
+        double d2_core = c.d2(k);
         if (tau)
-          d2_core *= consistency_threshold / tauThreshold(c.others_nis, dof, fisherQuantile2(dof, so.consistency_gate),
+          d2_core *= consistency_threshold / tauThreshold(c.othersNis(), c.dof(),
+                                                          fisherQuantile2(c.dof(), so.consistency_gate),
                                                           consistency_threshold, so.min_variance_factor);
         d2 = std::isfinite(d2_core) ? std::max(d2, d2_core) : std::numeric_limits<double>::infinity();
       }

@@ -9,6 +9,19 @@
 
 namespace slamcmp {
 
+namespace {
+
+// d x (H s) = 0 for Hartley-normalised s and d: two independent rows of the DLT in h = vec(H) by
+// rows.
+Eigen::Matrix<double, 2, 9> dltRows(const Vec3& s, const Vec3& d) {
+  Eigen::Matrix<double, 2, 9> rows;
+  rows << 0, 0, 0, -d.z() * s.transpose(), d.y() * s.transpose(), d.z() * s.transpose(), 0, 0, 0,
+      -d.x() * s.transpose();
+  return rows;
+}
+
+}  // namespace
+
 Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
   const int n = static_cast<int>(src.size());
   const Mat3 Ts = hartleyNormalisation(src), Td = hartleyNormalisation(dst);
@@ -16,9 +29,7 @@ Mat3 homographyDlt(const std::vector<Vec2>& src, const std::vector<Vec2>& dst) {
   for (int i = 0; i < n; ++i) {
     const Vec3 s = Ts * src[i].homogeneous();
     const Vec3 d = Td * dst[i].homogeneous();
-    // d x (H s) = 0: two independent rows per correspondence.
-    A.row(2 * i) << 0, 0, 0, -d.z() * s.transpose(), d.y() * s.transpose();
-    A.row(2 * i + 1) << d.z() * s.transpose(), 0, 0, 0, -d.x() * s.transpose();
+    A.middleRows<2>(2 * i) = dltRows(s, d);
   }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
   const Eigen::VectorXd h = svd.matrixV().col(8);
@@ -39,9 +50,7 @@ bool determinesAHomography(const std::vector<Vec2>& points) {
   Eigen::Matrix<double, 9, 9> AtA = Eigen::Matrix<double, 9, 9>::Zero();
   for (const Vec2& p : points) {
     const Vec3 s = T * p.homogeneous();
-    Eigen::Matrix<double, 2, 9> rows;
-    rows << 0, 0, 0, -s.z() * s.transpose(), s.y() * s.transpose(), s.z() * s.transpose(), 0, 0, 0,
-        -s.x() * s.transpose();
+    const Eigen::Matrix<double, 2, 9> rows = dltRows(s, s);
     AtA += rows.transpose() * rows;
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> eigen(AtA, Eigen::EigenvaluesOnly);
