@@ -140,11 +140,8 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
       const double iz = 1.0 / p.z();
       const Vec2 r = p.head<2>() * iz - o.xy;
       const double w = o.weight * huberWeight(o.weight * r.squaredNorm(), k);
-      const Mat23 Jpi = pinholeJacobian(p);
-      // Left perturbation of the camera: p' = p + omega x p + v, dp/d(omega, v) = [-[p]x, I].
-      Mat26 Jc;
-      Jc << Jpi * -skew(p), Jpi;
-      const Mat23 Jp = Jpi * T[o.camera].R();
+      const Mat26 Jc = projectionPoseJacobian(p);
+      const Mat23 Jp = pinholeJacobian(p) * T[o.camera].R();
       if (cam.block >= 0) {
         U[cam.block] += w * Jc.transpose() * Jc;
         gc[cam.block] += w * Jc.transpose() * r;

@@ -32,12 +32,7 @@ double accumulate(const SE3& T, const std::vector<Vec3>& p_world, const std::vec
     if (huber > 0 && e > huber) w = huber / e;
     cost += huber > 0 && e > huber ? 2 * huber * e - huber * huber : e * e;
     if (!H) continue;
-    // Left perturbation p' = p + w x p + v: dp/d(w, v) = [-[p]x, I].
-    Eigen::Matrix<double, 2, 3> Jp;
-    Jp << f * iz, 0, -f * p.x() * iz * iz, 0, f * iz, -f * p.y() * iz * iz;
-    Eigen::Matrix<double, 3, 6> Jt;
-    Jt << -skew(p), Mat3::Identity();
-    const Eigen::Matrix<double, 2, 6> J = Jp * Jt;
+    const Eigen::Matrix<double, 2, 6> J = projectionPoseJacobian(p, f);
     *H += w * J.transpose() * J;
     if (g) *g += w * J.transpose() * r;
   }
@@ -49,6 +44,15 @@ double accumulate(const SE3& T, const std::vector<Vec3>& p_world, const std::vec
 SE3 applyPoseDelta(const SE3& T, const Vec6& delta) {
   const Mat3 dR = rotationFromRotvec(delta.head<3>());
   return SE3(nearestRotation(dR * T.R()), dR * T.t() + delta.tail<3>());
+}
+
+Eigen::Matrix<double, 2, 6> projectionPoseJacobian(const Vec3& p_camera, double scale) {
+  const double iz = 1.0 / p_camera.z();
+  Mat23 J_xy_p;  // scale pinholeJacobian(p_camera), the scale applied first as the refinement always did
+  J_xy_p << scale * iz, 0, -scale * p_camera.x() * iz * iz, 0, scale * iz, -scale * p_camera.y() * iz * iz;
+  Eigen::Matrix<double, 3, 6> J_p_delta;
+  J_p_delta << -skew(p_camera), Mat3::Identity();
+  return J_xy_p * J_p_delta;
 }
 
 Vec6 poseDifference(const SE3& T_to, const SE3& T_from) {

@@ -46,6 +46,11 @@ Mat6 reprojectionHessian(const SE3& T_camera_world, const std::vector<Vec3>& p_w
 Vec6 poseDifference(const SE3& T_to, const SE3& T_from);
 SE3 applyPoseDelta(const SE3& T, const Vec6& delta);
 
+// The Jacobian of the normalised projection times `scale` (focal_px: pixels) over that
+// perturbation, at p_camera = T p_world in front: applyPoseDelta moves p_camera to
+// p_camera + omega x p_camera + v, so it is scale pinholeJacobian(p_camera) [-[p_camera]x, I].
+Eigen::Matrix<double, 2, 6> projectionPoseJacobian(const Vec3& p_camera, double scale = 1);
+
 // Reprojection errors in pixels (normalised residual times focal_px); +inf for a point behind.
 std::vector<double> reprojectionErrorsPx(const SE3& T_camera_world, const std::vector<Vec3>& p_world,
                                          const std::vector<Vec2>& xy_normalised, double focal_px);
