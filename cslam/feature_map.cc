@@ -24,29 +24,15 @@ void FeatureMap::addObservation(int id, const SE3& T_world_camera, const Vec2& x
   e.max_parallax_cos = std::min(e.max_parallax_cos, e.first_direction.dot(ray.direction));
   ++e.observations;
   e.least_squares.add(ray);
-  if (options_.method == "midpoint_average") {
-    // Algorithm 3.1, one new ray at a time: its closest-point midpoints with every earlier ray.
-    for (const Ray& earlier : e.rays) {
-      Vec3 r1, r2;
-      if (!closestPointsOfRays(earlier, ray, &r1, &r2)) continue;
-      e.midpoint_total += 0.5 * (r1 + r2);
-      ++e.midpoint_weight;
-    }
-    e.rays.push_back(ray);
-  }
+  if (options_.method == "midpoint_average") e.midpoint_average.add(ray);
   update(e, ray);
 }
 
 void FeatureMap::update(Entry& e, const Ray& newest) const {
   e.usable = false;
   if (e.max_parallax_cos > min_parallax_cos_) return;
-  if (options_.method == "midpoint_average") {
-    if (e.midpoint_weight == 0) return;
-    e.p_world = e.midpoint_total / e.midpoint_weight;
-  } else {
-    e.p_world = e.least_squares.solve();
-    if (!e.p_world) return;
-  }
+  e.p_world = options_.method == "midpoint_average" ? e.midpoint_average.solve() : e.least_squares.solve();
+  if (!e.p_world) return;
   const double depth = (*e.p_world - newest.origin).dot(newest.direction);
   if (depth <= 0) return;
   e.usable = focal_px_ * e.least_squares.rmsDistance(*e.p_world) / depth <= options_.max_ray_error_px;

@@ -44,9 +44,7 @@ class FeatureMap {
  private:
   struct Entry {
     RayLeastSquares least_squares;
-    std::vector<Ray> rays;  // for Algorithm 3.1 only
-    Vec3 midpoint_total = Vec3::Zero();  // Algorithm 3.1 accumulated incrementally
-    int midpoint_weight = 0;
+    RayMidpointAverage midpoint_average;  // Algorithm 3.1, fed only when it is the method
     Vec3 first_direction = Vec3::Zero();
     double max_parallax_cos = 1.0;  // smallest cosine between the first ray and any later one
     std::optional<Vec3> p_world;

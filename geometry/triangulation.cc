@@ -25,18 +25,19 @@ bool closestPointsOfRays(const Ray& a, const Ray& b, Vec3* on_a, Vec3* on_b) {
   return true;
 }
 
-std::optional<Vec3> triangulateMidpointAverage(const std::vector<Ray>& rays) {
-  Vec3 total = Vec3::Zero();
-  int weight = 0;
-  for (size_t i = 0; i + 1 < rays.size(); ++i)
-    for (size_t j = i + 1; j < rays.size(); ++j) {
-      Vec3 r1, r2;
-      if (!closestPointsOfRays(rays[i], rays[j], &r1, &r2)) continue;  // parallel: no information
-      total += 0.5 * (r1 + r2);  // equals the intersection when the lines meet
-      ++weight;
-    }
-  if (weight == 0) return std::nullopt;
-  return Vec3(total / weight);
+void RayMidpointAverage::add(const Ray& ray) {
+  for (const Ray& earlier : rays_) {
+    Vec3 r1, r2;
+    if (!closestPointsOfRays(earlier, ray, &r1, &r2)) continue;  // parallel: no information
+    total_ += 0.5 * (r1 + r2);  // equals the intersection when the lines meet
+    ++pairs_;
+  }
+  rays_.push_back(ray);
+}
+
+std::optional<Vec3> RayMidpointAverage::solve() const {
+  if (pairs_ == 0) return std::nullopt;
+  return Vec3(total_ / pairs_);
 }
 
 void RayLeastSquares::add(const Ray& ray) {
@@ -59,12 +60,6 @@ double RayLeastSquares::rmsDistance(const Vec3& X) const {
   if (n_ == 0) return 0;
   const double sum = X.dot(A_ * X) - 2 * b_.dot(X) + c_;
   return std::sqrt(std::max(0.0, sum) / n_);
-}
-
-std::optional<Vec3> triangulateLeastSquares(const std::vector<Ray>& rays) {
-  RayLeastSquares ls;
-  for (const auto& r : rays) ls.add(r);
-  return ls.solve();
 }
 
 }  // namespace slamcmp

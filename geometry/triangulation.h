@@ -22,8 +22,19 @@ Ray rayFromObservation(const SE3& T_world_camera, const Vec2& xy_normalised);
 bool closestPointsOfRays(const Ray& a, const Ray& b, Vec3* on_a, Vec3* on_b);
 
 // Thesis Algorithm 3.1: the average over all ray pairs of the midpoint of their closest points
-// (an intersection counts as its own midpoint). Empty with fewer than two non-parallel rays.
-std::optional<Vec3> triangulateMidpointAverage(const std::vector<Ray>& rays);
+// (an intersection counts as its own midpoint), accumulated one ray at a time (a new ray pairs with
+// every earlier one: O(rays so far)).
+class RayMidpointAverage {
+ public:
+  void add(const Ray& ray);
+  // Empty with fewer than two non-parallel rays.
+  std::optional<Vec3> solve() const;
+
+ private:
+  std::vector<Ray> rays_;
+  Vec3 total_ = Vec3::Zero();  // sum of the pairs' midpoints
+  int pairs_ = 0;              // non-parallel pairs
+};
 
 // Linear least squares: the point minimising the sum of squared distances to the rays,
 // sum_i (I - d_i d_i^T) (X - c_i) = 0. Accumulates one ray at a time (O(1) per observation).
@@ -42,7 +53,5 @@ class RayLeastSquares {
   double c_ = 0;  // sum of c_i^T (I - d_i d_i^T) c_i
   int n_ = 0;
 };
-
-std::optional<Vec3> triangulateLeastSquares(const std::vector<Ray>& rays);
 
 }  // namespace slamcmp

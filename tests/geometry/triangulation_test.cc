@@ -25,12 +25,20 @@ std::vector<Ray> raysTo(const Vec3& p_world, const std::vector<SE3>& poses, doub
   return rays;
 }
 
+// Each method's point from all the rays, added one at a time.
+template <class Method>
+std::optional<Vec3> triangulate(const std::vector<Ray>& rays) {
+  Method method;
+  for (const Ray& ray : rays) method.add(ray);
+  return method.solve();
+}
+
 TEST(Triangulation, BothMethodsAreExactOnExactRays) {
   std::mt19937 rng(1);
   for (const Vec3& p : {Vec3(0.1, 0.2, 1.0), Vec3(-0.4, 0.3, 2.5), Vec3(0.0, -0.2, 0.4)}) {
     const auto rays = raysTo(p, cameraPath(12), 0, &rng);
-    const auto a = triangulateMidpointAverage(rays);
-    const auto b = triangulateLeastSquares(rays);
+    const auto a = triangulate<RayMidpointAverage>(rays);
+    const auto b = triangulate<RayLeastSquares>(rays);
     ASSERT_TRUE(a && b);
     EXPECT_LT((*a - p).norm(), 1e-9);
     EXPECT_LT((*b - p).norm(), 1e-9);
@@ -45,8 +53,8 @@ TEST(Triangulation, ClosestPointsOfSkewAndParallelLines) {
   EXPECT_LT((a - Vec3(2, 0, 0)).norm(), 1e-15);
   EXPECT_LT((b - Vec3(2, 0, 1)).norm(), 1e-15);
   EXPECT_FALSE(closestPointsOfRays(x_axis, Ray{Vec3(0, 1, 0), Vec3::UnitX()}, &a, &b));
-  EXPECT_FALSE(triangulateLeastSquares({x_axis, Ray{Vec3(0, 1, 0), Vec3::UnitX()}}));
-  EXPECT_FALSE(triangulateMidpointAverage({x_axis}));
+  EXPECT_FALSE(triangulate<RayLeastSquares>({x_axis, Ray{Vec3(0, 1, 0), Vec3::UnitX()}}));
+  EXPECT_FALSE(triangulate<RayMidpointAverage>({x_axis}));
 }
 
 // 0.5 px noise at f = 500 over 12 views spanning 33 cm at 1 to 2.5 m: a few millimetres to a
@@ -57,8 +65,8 @@ TEST(Triangulation, NoisyRaysWithinTheNoise) {
     double err_a = 0, err_b = 0;
     for (int trial = 0; trial < 50; ++trial) {
       const auto rays = raysTo(p, cameraPath(12), 0.5 / 500, &rng);
-      err_a += (*triangulateMidpointAverage(rays) - p).squaredNorm();
-      err_b += (*triangulateLeastSquares(rays) - p).squaredNorm();
+      err_a += (*triangulate<RayMidpointAverage>(rays) - p).squaredNorm();
+      err_b += (*triangulate<RayLeastSquares>(rays) - p).squaredNorm();
     }
     EXPECT_LT(std::sqrt(err_a / 50), 0.01 * (p.z() + 0.5));
     EXPECT_LT(std::sqrt(err_b / 50), 0.01 * (p.z() + 0.5));
