@@ -211,6 +211,7 @@ bool EkfSlam::addFeature(const cv::Mat& grey, std::vector<Vec2>& occupied) {
     f.ray_template.release();  // only rays search with the unwarped template
     f.offset = appendInverseDepthFeature(state_, camera_, uv_frame_time, options_.search.pixel_sigma, io.rho0,
                                          io.rho_sigma);
+    if (f.offset < 0) return false;
   } else {
     f.is_ray = true;
     f.offset = appendRay(state_, camera_, uv_frame_time, options_.search.pixel_sigma);

@@ -76,6 +76,9 @@ StateBlock inverseDepthFeature(const EkfState& state, const CameraModel& camera,
 int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
                               double pixel_sigma, double rho0, double rho_sigma) {
   const StateBlock block = inverseDepthFeature(state, camera, uv_distorted, pixel_sigma, rho0, rho_sigma);
+  // Near the world's vertical axis the azimuth is undefined: its Jacobian grows as 1 / the ray's
+  // horizontal part (1 / 0 on the axis). Refused where the pixel's noise alone spans a radian of it.
+  if (!(block.P_block(3, 3) < 1.0) || !block.P_block_rest.allFinite()) return -1;
   return state.append(block.value, block.P_block, block.P_block_rest);
 }
 
@@ -87,7 +90,8 @@ double linearityIndex(const EkfState& state, int offset) {
   const Vec3 h = y.head<3>() + m / rho - state.r();
   const double d1 = h.norm();
   const double sigma_d = std::sqrt(std::max(0.0, state.P()(offset + 5, offset + 5))) / (rho * rho);
-  return 4 * sigma_d / d1 * std::abs(m.dot(h) / d1);
+  const double L = 4 * sigma_d / d1 * std::abs(m.dot(h) / d1);
+  return L >= 0 ? L : std::numeric_limits<double>::infinity();  // the camera on the point (0 / 0): not linear
 }
 
 Vec3 inverseDepthToPoint(const Vec6& y, Eigen::Matrix<double, 3, 6>* J) {

@@ -34,13 +34,15 @@ bool predictInverseDepthMeasurement(const CameraModel& camera, const Vec3& r, co
 // ray, rho = rho0; its covariance from the camera's (r, q), the pixel noise and rho_sigma.
 StateBlock inverseDepthFeature(const EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
                                double pixel_sigma, double rho0, double rho_sigma);
-// That feature appended to the map (before the state's tail). Returns its state offset.
+// That feature appended to the map (before the state's tail). Returns its state offset, or -1 (the
+// state unchanged) for a ray so near the world's vertical axis that its azimuth theta is undefined
+// (a standard deviation of a radian or more).
 int appendInverseDepthFeature(EkfState& state, const CameraModel& camera, const Vec2& uv_distorted,
                               double pixel_sigma, double rho0, double rho_sigma);
 
 // Civera eq. 15: L_d = 4 sigma_d / d1 |cos(alpha)|, sigma_d = sigma_rho / rho^2, d1 the distance
 // from the camera centre r to the point and alpha the angle between m and that line of sight.
-// Infinite for rho <= 0.
+// Infinite for rho <= 0 and where it is undefined (the camera centre on the point).
 double linearityIndex(const EkfState& state, int offset);
 
 // The Euclidean point x0 + m / rho and its Jacobian d p / d y (3x6).

@@ -4,6 +4,7 @@
 #include "ekf/inverse_depth.h"
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/LU>
 #include <gtest/gtest.h>
@@ -132,6 +133,35 @@ TEST(InverseDepth, LinearityIndexAndConversion) {
   EXPECT_EQ(state.size(), 16);
   EXPECT_LT((state.x().segment<3>(point) - p).norm(), 1e-12);
   EXPECT_LT((state.P().block<3, 3>(point, point) - P_expected).norm(), 1e-15);
+}
+
+// Where the parametrisation is undefined nothing is made up. The camera pitched down 90 degrees (an
+// exact quaternion): the principal point's ray runs along the world's vertical axis, where the
+// azimuth's Jacobian is 1 / 0 (a NaN covariance the filter then called divergence), and a pixel
+// 0.1 px from it has an azimuth 10 radians uncertain: neither is added, the state left as it was.
+// 40 px off (0.03 rad) it is added as usual. The camera centre on a feature's point gives an
+// infinite linearity index (0 / 0 was NaN, which the conversion test let through).
+TEST(InverseDepth, UndefinedGeometryAddsNothingAndConvertsNothing) {
+  const CameraModel camera = test::testCamera();
+  EkfState state;
+  state.reset(SE3(quatFromVector(Vec4(0.5, -0.5, -0.5, -0.5)), Vec3::Zero()),
+              Eigen::Matrix<double, 13, 13>::Identity() * 1e-6);
+  ASSERT_EQ(state.T_world_camera().R() * Vec3::UnitZ(), Vec3(0, 1, 0));
+  const EkfState before = state;
+  const Vec2 centre(camera.cx, camera.cy);  // undistorted where it is distorted
+  for (const Vec2& uv : {centre, Vec2(centre + Vec2(0.1, 0))}) {
+    EXPECT_EQ(appendInverseDepthFeature(state, camera, uv, 1.0, 0.5, 0.5), -1) << uv.transpose();
+    EXPECT_EQ(state.size(), before.size());
+    EXPECT_EQ(state.P(), before.P());
+  }
+  EXPECT_EQ(appendInverseDepthFeature(state, camera, centre + Vec2(40, 0), 1.0, 0.5, 0.5), 13);
+  EXPECT_TRUE(state.P().allFinite());
+
+  EkfState at_point;
+  at_point.reset(SE3(), Eigen::Matrix<double, 13, 13>::Identity() * 1e-6);
+  const int offset = appendInverseDepthFeature(at_point, camera, Vec2(300, 200), 1.0, 0.5, 0.5);
+  at_point.x().segment<3>(EkfState::kR) = inverseDepthPoint(at_point.x().segment<6>(offset));
+  EXPECT_EQ(linearityIndex(at_point, offset), std::numeric_limits<double>::infinity());
 }
 
 // The scale gauge: after the pseudo-measurement the mean inverse depth of the first frame's
