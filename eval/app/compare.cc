@@ -85,17 +85,41 @@ std::string lastLogLine(const std::string& path) {
   return last;
 }
 
+// A sequence as collect reads it: its ground truth and scene, or, where it cannot be read (moved,
+// deleted, a file broken since the plan), its name alone and why. Its runs fail; the others are
+// collected.
+struct CollectedSequence {
+  SequenceInfo info;
+  std::string error;  // "" when read
+};
+
+CollectedSequence collectSequence(const std::string& path, const std::string& name) {
+  try {
+    return {readSequenceInfo(path, SequenceImages::NotNeeded), ""};
+  } catch (const InputError& e) {
+    SequenceInfo info;
+    info.path = path;
+    info.name = name;
+    info.frames = -1;  // not known
+    return {info, std::string("its sequence cannot be read: ") + e.what()};
+  }
+}
+
 // One planned run read back: finished (ok), interrupted (summary.json or its log says so), failed
-// (its log's last line), unfinished (a log and no more: running, or killed without a word) or not
-// run (no log).
-RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::string& dir, const SequenceInfo& seq) {
+// (its log's last line, or its sequence unreadable), unfinished (a log and no more: running, or
+// killed without a word) or not run (no log).
+RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::string& dir,
+                     const CollectedSequence& seq) {
   const Method& method = plan.methods[planned.method];
   const std::string run_dir = (fs::path(dir) / planned.dir).string();
   RunResult r;
   std::error_code ec;
-  if (fs::exists(fs::path(run_dir) / run_files::kSummary, ec)) {
+  if (!seq.error.empty()) {
+    r.status = "failed";
+    r.error = seq.error;
+  } else if (fs::exists(fs::path(run_dir) / run_files::kSummary, ec)) {
     try {
-      r = loadRun(method, run_dir, seq);
+      r = loadRun(method, run_dir, seq.info);
       if (r.summary.value("interrupted", false)) {
         r.status = "interrupted";
         r.error = "stopped after " + std::to_string(r.summary.value("frames", 0)) + " frames";
@@ -139,7 +163,7 @@ RunResult collectRun(const Plan& plan, const PlannedRun& planned, const std::str
   r.method = method;
   r.dir = planned.dir;
   r.trial = planned.trial;
-  r.sequence = &seq;
+  r.sequence = &seq.info;
   return r;
 }
 
@@ -171,16 +195,16 @@ std::string collectCompare(const std::string& dir_given, std::vector<UnfinishedR
   const Plan plan = planFromJson(readJsonFile(plan_path), plan_path);
   std::vector<SequenceInfo> seqs;
   // Only the runs are read: the images may be gone (deleted to free a cluster's disk).
-  for (const std::string& path : plan.sequences)
-    seqs.push_back(readSequenceInfo(inCollectedFolder(path, plan, dir), SequenceImages::NotNeeded));
-  std::map<std::string, SequenceInfo> trial_seqs;  // each trial's own ground truth and scene
+  for (size_t s = 0; s < plan.sequences.size(); ++s)
+    seqs.push_back(collectSequence(inCollectedFolder(plan.sequences[s], plan, dir), plan.sequence_names[s]).info);
+  std::map<std::string, CollectedSequence> trial_seqs;  // each trial's own ground truth and scene
   std::vector<RunResult> runs;
   std::vector<UnfinishedRun> not_finished;
   for (const PlannedRun& planned : plan.runs) {
     const std::string sequence_path = inCollectedFolder(planned.sequence_path, plan, dir);
     auto it = trial_seqs.find(sequence_path);
     if (it == trial_seqs.end())
-      it = trial_seqs.emplace(sequence_path, readSequenceInfo(sequence_path, SequenceImages::NotNeeded)).first;
+      it = trial_seqs.emplace(sequence_path, collectSequence(sequence_path, plan.sequence_names[planned.sequence])).first;
     runs.push_back(collectRun(plan, planned, dir, it->second));
     if (!runs.back().finished()) not_finished.push_back({planned.dir, runs.back().status, runs.back().error});
   }

@@ -295,5 +295,40 @@ TEST(RunOutputs, CompareAndCollectSayWhichRunsFailed) {
   EXPECT_EQ(collected.err, r.err);
 }
 
+// A sequence gone since its runs (deleted, or not copied back from a cluster's scratch) fails its
+// own runs, a line for each, and exit 2; the other sequence's runs are collected and reported, the
+// gone one's length unknown (it stopped the whole collect with "does not exist").
+TEST(RunOutputs, CollectWithASequenceGoneReportsTheOthers) {
+  TempDir tmp;
+  const std::string kept = renderTv1(tmp, 4, "kept");
+  const std::string gone = renderTv1(tmp, 4, "gone");
+  const std::string dir = tmp.file("c");
+  ASSERT_EQ(test::runSlamcmp("compare --jobs 1 --sequence " + kept + " --sequence " + gone +
+                             " --backends cslam,monoslam --out " + dir)
+                .exit_code,
+            0);
+  fs::remove_all(gone);
+  const auto collected = test::runSlamcmp("compare --collect " + dir);
+  EXPECT_EQ(collected.exit_code, 2) << collected.err;
+  EXPECT_EQ(lineCount(collected.err), 3) << collected.err;
+  for (const std::string run : {"gone-cslam", "gone-monoslam"})
+    EXPECT_NE(collected.err.find("slamcmp: " + dir + "/runs/" + run + ": failed: its sequence cannot be read: " + gone +
+                                 ": does not exist\n"),
+              std::string::npos)
+        << collected.err;
+  EXPECT_NE(collected.err.find("2 run(s) failed"), std::string::npos) << collected.err;
+  const std::vector<std::string> report = test::readLines(dir + "/report.md");
+  const auto has = [&](const std::string& line) { return std::find(report.begin(), report.end(), line) != report.end(); };
+  EXPECT_TRUE(has("| kept | 4 | - |  |"));
+  EXPECT_TRUE(has("| gone | - | - |  |"));
+  for (const std::string backend : {"cslam", "monoslam"}) {
+    EXPECT_TRUE(std::any_of(report.begin(), report.end(), [&](const std::string& line) {
+      return line.rfind("| kept | " + backend + " | 4/4 |", 0) == 0;
+    })) << backend;
+    EXPECT_TRUE(has("- `runs/gone-" + backend + "`: failed: its sequence cannot be read: " + gone + ": does not exist"))
+        << backend;
+  }
+}
+
 }  // namespace
 }  // namespace slamcmp
