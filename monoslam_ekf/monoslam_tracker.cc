@@ -238,77 +238,87 @@ void MonoslamTracker::rememberOrientation(const PoseCovariance& pose_covariance)
   two_view_->remember(slam_.T_world_camera().R(), pose_covariance.bottomRightCorner<3, 3>().trace() / 3);
 }
 
-FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
-  FrameMeasurement measurement;  // none in a start's frame
-  bool started_here = false;      // the pose comes from the board (or the given pose) in this frame
-  if (!running_) {
-    std::string reason;
-    if (!start(frame, &reason)) {
-      result.status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
-      result.reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
-      if (want_overlay_ && !start_corners_.empty()) {  // a restart's first view of the board
-        result.overlay = FrameOverlay();
-        result.overlay->board_corners = wholeBoardCorners(start_corners_);
-      }
-      return result;
+// The frame that starts (or restarts) the filter: false, the result said, when it cannot start here.
+bool MonoslamTracker::startFrame(const Frame& frame, FrameResult* result) {
+  std::string reason;
+  if (!start(frame, &reason)) {
+    result->status = ever_started_ ? TrackStatus::Lost : TrackStatus::Initialising;
+    result->reason = ever_started_ ? lost_reason_ + "; " + reason : reason;
+    if (want_overlay_ && !start_corners_.empty()) {  // a restart's first view of the board
+      result->overlay = FrameOverlay();
+      result->overlay->board_corners = wholeBoardCorners(start_corners_);
     }
-    started_here = true;
-    if (two_view_) two_view_->update(frame.grey, slam_.state());  // the first tracks
-    slam_.updateMap(frame.grey, visible_);
-    // A board-free map starts from its first frame's features, and never restarts: a frame without
-    // any (a covered lens, a blank wall) would start an empty map and lose the whole run. The start
-    // waits for texture. (A textured frame may give only a few: the initialisation adds features a
-    // few boxes a frame, 3 in tum_fr1_rpy's first.)
-    if (init_ == InitSource::None && slam_.features().empty()) {
-      ever_started_ = false;
-      running_ = false;
-      result.status = TrackStatus::Initialising;
-      result.reason = "waiting for texture to start the map: no feature found";
-      return result;
-    }
-    if (want_overlay_) {
-      result.overlay = slam_.overlay(FrameMeasurement(), target_);
-      result.overlay->board_corners = wholeBoardCorners(start_corners_);
-    }
-  } else {
-    {
-      const StageTimer timer(&result.stages, "predict");
-      if (!relocalised) {  // else placed in this frame
-        if (unknown_first_motion_) setFirstMotionPrior(frame.timestamp - last_timestamp_);
-        slam_.predict(frame.timestamp - last_timestamp_);
-      }
-    }
-    last_timestamp_ = frame.timestamp;
-    if (two_view_) {  // the orientation first: the patches are then searched about the turn the tracks measured
-      const StageTimer timer(&result.stages, "two_view");
-      two_view_->update(frame.grey, slam_.state());
-    }
-    {
-      const StageTimer timer(&result.stages, "features");
-      measurement = slam_.measure(frame.grey);
-    }
-    visible_ = measurement.visible;
-    result.measured = measurement.matched;
-    // Before updateMap, which may remove features `measurement` points into.
-    trusted_matched_ = 0;
-    for (const FeatureSearch& s : measurement.features)
-      if (s.outcome == SearchOutcome::Matched && slam_.features()[s.index].id < trusted_id_limit_) ++trusted_matched_;
-    if (want_overlay_) result.overlay = slam_.overlay(measurement, target_);
-    frames_unmeasured_ = result.measured > 0 ? 0 : frames_unmeasured_ + 1;
-    {
-      const StageTimer timer(&result.stages, "map");
-      slam_.updateMap(frame.grey, visible_);
-    }
-    const std::string why = divergence();
-    if (!why.empty()) {
-      running_ = false;
-      diverged_ = true;
-      lost_reason_ = why;
-      result.status = TrackStatus::Lost;
-      result.reason = why;
-      return result;
+    return false;
+  }
+  if (two_view_) two_view_->update(frame.grey, slam_.state());  // the first tracks
+  slam_.updateMap(frame.grey, visible_);
+  // A board-free map starts from its first frame's features, and never restarts: a frame without
+  // any (a covered lens, a blank wall) would start an empty map and lose the whole run. The start
+  // waits for texture. (A textured frame may give only a few: the initialisation adds features a
+  // few boxes a frame, 3 in tum_fr1_rpy's first.)
+  if (init_ == InitSource::None && slam_.features().empty()) {
+    ever_started_ = false;
+    running_ = false;
+    result->status = TrackStatus::Initialising;
+    result->reason = "waiting for texture to start the map: no feature found";
+    return false;
+  }
+  if (want_overlay_) {
+    result->overlay = slam_.overlay(FrameMeasurement(), target_);
+    result->overlay->board_corners = wholeBoardCorners(start_corners_);
+  }
+  return true;
+}
+
+// A running filter's frame: predicted, measured, its map updated. False, the result said, when the
+// filter diverged.
+bool MonoslamTracker::filterFrame(const Frame& frame, bool relocalised, FrameResult* result,
+                                  FrameMeasurement* measurement) {
+  {
+    const StageTimer timer(&result->stages, "predict");
+    if (!relocalised) {  // else placed in this frame
+      if (unknown_first_motion_) setFirstMotionPrior(frame.timestamp - last_timestamp_);
+      slam_.predict(frame.timestamp - last_timestamp_);
     }
   }
+  last_timestamp_ = frame.timestamp;
+  if (two_view_) {  // the orientation first: the patches are then searched about the turn the tracks measured
+    const StageTimer timer(&result->stages, "two_view");
+    two_view_->update(frame.grey, slam_.state());
+  }
+  {
+    const StageTimer timer(&result->stages, "features");
+    *measurement = slam_.measure(frame.grey);
+  }
+  visible_ = measurement->visible;
+  result->measured = measurement->matched;
+  // Before updateMap, which may remove features `measurement` points into.
+  trusted_matched_ = 0;
+  for (const FeatureSearch& s : measurement->features)
+    if (s.outcome == SearchOutcome::Matched && slam_.features()[s.index].id < trusted_id_limit_) ++trusted_matched_;
+  if (want_overlay_) result->overlay = slam_.overlay(*measurement, target_);
+  frames_unmeasured_ = result->measured > 0 ? 0 : frames_unmeasured_ + 1;
+  {
+    const StageTimer timer(&result->stages, "map");
+    slam_.updateMap(frame.grey, visible_);
+  }
+  const std::string why = divergence();
+  if (!why.empty()) {
+    running_ = false;
+    diverged_ = true;
+    lost_reason_ = why;
+    result->status = TrackStatus::Lost;
+    result->reason = why;
+    return false;
+  }
+  return true;
+}
+
+FrameResult MonoslamTracker::trackFrame(const Frame& frame, bool relocalised, FrameResult result) {
+  FrameMeasurement measurement;         // none in a start's frame
+  const bool started_here = !running_;  // the pose comes from the board (or the given pose) in this frame
+  if (started_here ? !startFrame(frame, &result) : !filterFrame(frame, relocalised, &result, &measurement))
+    return result;
   result.features = static_cast<int>(slam_.features().size());
   // Nothing absolute anchors a board-free map but the map itself: after a loss its frames are posed
   // again once features mapped while it was posed are found again (while it tracks, matching them

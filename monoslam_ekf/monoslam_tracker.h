@@ -46,6 +46,8 @@ class MonoslamTracker : public Tracker {
   void rememberOrientation(const PoseCovariance& pose_covariance);
   // One frame of the filter (track() after any relocalisation; `result` holds its stages so far).
   FrameResult trackFrame(const Frame& frame, bool relocalised, FrameResult result);
+  bool startFrame(const Frame& frame, FrameResult* result);
+  bool filterFrame(const Frame& frame, bool relocalised, FrameResult* result, FrameMeasurement* measurement);
 
   CameraModel camera_;
   ChessboardTarget target_;
