@@ -43,14 +43,20 @@ SE3 perturbed(const SE3& T, std::mt19937* rng, double rotation, double translati
                          T.t() + translation * Vec3(u(*rng), u(*rng), u(*rng)));
 }
 
+// The scene's eight cameras: the first two fixed where they are (position, orientation and
+// scale), the others started `off` (radians and metres per axis, at most) away.
+void addCameras(BundleAdjustment* ba, const Scene& s, std::mt19937* rng, double off) {
+  for (int i = 0; i < 8; ++i)
+    ba->addCamera((i < 2 ? s.T_world_camera[i] : perturbed(s.T_world_camera[i], rng, off, off)).inverse(), i < 2);
+}
+
 // Two fixed cameras hold position, orientation and scale; from poses 1 cm / 0.6 degree and points
 // 3 cm off, the exact solution is found.
 TEST(BundleAdjustment, RecoversExactDataToMachinePrecision) {
   std::mt19937 rng(3);
   const Scene s = makeScene(&rng);
   BundleAdjustment ba;
-  for (int i = 0; i < 8; ++i)
-    ba.addCamera((i < 2 ? s.T_world_camera[i] : perturbed(s.T_world_camera[i], &rng, 0.01, 0.01)).inverse(), i < 2);
+  addCameras(&ba, s, &rng, 0.01);
   std::uniform_real_distribution<double> u(-1, 1);
   for (size_t j = 0; j < s.points.size(); ++j) {
     const int p = ba.addPoint(s.points[j] + 0.03 * Vec3(u(rng), u(rng), u(rng)), false);
@@ -94,8 +100,7 @@ TEST(BundleAdjustment, HuberLossResistsOutliers) {
     const Scene s = makeScene(&rng);
     std::normal_distribution<double> noise(0, 0.3 / kFocalPx);
     BundleAdjustment ba;
-    for (int i = 0; i < 8; ++i)
-      ba.addCamera((i < 2 ? s.T_world_camera[i] : perturbed(s.T_world_camera[i], &rng, 0.005, 0.005)).inverse(), i < 2);
+    addCameras(&ba, s, &rng, 0.005);
     for (size_t j = 0; j < s.points.size(); ++j) {
       const int p = ba.addPoint(s.points[j], false);
       for (int i = 0; i < 8; ++i) {
@@ -123,8 +128,7 @@ TEST(BundleAdjustment, PointsOnRaysFindTheirDepthAndHoldRotations) {
   std::mt19937 rng(11);
   const Scene s = makeScene(&rng);
   BundleAdjustment ba;
-  for (int i = 0; i < 8; ++i)
-    ba.addCamera((i < 2 ? s.T_world_camera[i] : perturbed(s.T_world_camera[i], &rng, 0.005, 0.005)).inverse(), i < 2);
+  addCameras(&ba, s, &rng, 0.005);
   for (size_t j = 0; j < s.points.size(); ++j) {
     // Through the first camera's observation, starting at twice the depth.
     const Vec3 origin = s.T_world_camera[0].t();
