@@ -95,6 +95,117 @@ double BundleAdjustment::cost(const std::vector<SE3>& cameras, const std::vector
   return total;
 }
 
+void BundleAdjustment::normalEquations(const Estimate& x, double huber, NormalEquations* eq) const {
+  for (auto& u : eq->U) u.setZero();
+  for (auto& g : eq->gc) g.setZero();
+  for (auto& v : eq->V) v.setZero();
+  for (auto& g : eq->gp) g.setZero();
+  eq->observations = 0;
+  for (size_t m = 0; m < observations_.size(); ++m) {
+    const Observation& o = observations_[m];
+    const Camera& cam = cameras_[o.camera];
+    const bool point_free = !points_[o.point].fixed;
+    eq->used[m] = 0;
+    if (cam.fixed && !point_free) continue;
+    const Vec3 p = x.T[o.camera] * x.P[o.point];
+    if (p.z() <= kMinDepth) continue;
+    eq->used[m] = 1;
+    ++eq->observations;
+    const double iz = 1.0 / p.z();
+    const Vec2 r = p.head<2>() * iz - o.xy;
+    const double w = o.weight * huberWeight(o.weight * r.squaredNorm(), huber);
+    const Mat26 Jc = projectionPoseJacobian(p);
+    const Mat23 Jp = pinholeJacobian(p) * x.T[o.camera].R();
+    if (cam.block >= 0) {
+      eq->U[cam.block] += w * Jc.transpose() * Jc;
+      eq->gc[cam.block] += w * Jc.transpose() * r;
+    }
+    if (point_free) {
+      eq->V[o.point] += w * Jp.transpose() * Jp;
+      eq->gp[o.point] += w * Jp.transpose() * r;
+    }
+    if (cam.block >= 0 && point_free) eq->W[m] = w * Jc.transpose() * Jp;
+  }
+  for (size_t j = 0; j < points_.size(); ++j) {
+    if (points_[j].fixed || points_[j].prior_weight <= 0) continue;
+    eq->V[j].diagonal().array() += points_[j].prior_weight;
+    eq->gp[j] += points_[j].prior_weight * (x.P[j] - points_[j].prior);
+  }
+}
+
+bool BundleAdjustment::dampedStep(const NormalEquations& eq, const Estimate& x, double lambda, int n_free,
+                                  Estimate* next) const {
+  // Marquardt damping of the diagonals; the points are eliminated (Schur complement).
+  const int nc = 6 * n_free;
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(nc, nc);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(nc);
+  for (int i = 0; i < n_free; ++i) {
+    Mat6 Ui = eq.U[i];
+    Ui.diagonal() += lambda * eq.U[i].diagonal().cwiseMax(1e-9);
+    S.block<6, 6>(6 * i, 6 * i) = Ui;
+    b.segment<6>(6 * i) = -eq.gc[i];
+  }
+  std::vector<Mat3> V_inv(points_.size());
+  for (size_t j = 0; j < points_.size(); ++j) {
+    if (points_[j].fixed) continue;
+    if (points_[j].on_ray) {
+      // One parameter: dp/d(inverse depth) = -direction / rho^2; V_inv eliminates it alone.
+      const Vec3 B = -points_[j].ray_direction / (x.rho[j] * x.rho[j]);
+      const double v = B.dot(eq.V[j] * B);
+      const double damped = v + lambda * std::max(v, 1e-9) + 1e-12;
+      V_inv[j] = B * B.transpose() / damped;
+    } else {
+      Mat3 Vj = eq.V[j];
+      Vj.diagonal() += lambda * eq.V[j].diagonal().cwiseMax(1e-9);
+      Vj.diagonal().array() += 1e-12;
+      V_inv[j] = Vj.inverse();
+    }
+    if (!V_inv[j].allFinite()) V_inv[j].setZero();
+    const std::vector<int>& obs = points_[j].observations;
+    for (size_t a = 0; a < obs.size(); ++a) {
+      if (!eq.used[obs[a]]) continue;
+      const int ca = cameras_[observations_[obs[a]].camera].block;
+      if (ca < 0) continue;
+      const Mat63 WaVinv = eq.W[obs[a]] * V_inv[j];
+      b.segment<6>(6 * ca) += WaVinv * eq.gp[j];
+      for (size_t c = 0; c < obs.size(); ++c) {
+        if (!eq.used[obs[c]]) continue;
+        const int cc = cameras_[observations_[obs[c]].camera].block;
+        if (cc < 0) continue;
+        S.block<6, 6>(6 * ca, 6 * cc) -= WaVinv * eq.W[obs[c]].transpose();
+      }
+    }
+  }
+  Eigen::VectorXd dc = Eigen::VectorXd::Zero(nc);
+  if (nc > 0) {
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
+    dc = ldlt.solve(b);
+  }
+  if (!dc.allFinite()) return false;
+  // Back-substitution: the cameras' step, then each point's.
+  *next = x;
+  for (size_t i = 0; i < cameras_.size(); ++i)
+    if (cameras_[i].block >= 0) next->T[i] = applyPoseDelta(x.T[i], dc.segment<6>(6 * cameras_[i].block));
+  for (size_t j = 0; j < points_.size(); ++j) {
+    if (points_[j].fixed) continue;
+    Vec3 rhs = -eq.gp[j];
+    for (int m : points_[j].observations) {
+      const int cm = cameras_[observations_[m].camera].block;
+      if (eq.used[m] && cm >= 0) rhs -= eq.W[m].transpose() * dc.segment<6>(6 * cm);
+    }
+    if (points_[j].on_ray) {
+      // The step along B = dp/d(rho), taken in inverse depth.
+      const Vec3 B = -points_[j].ray_direction / (x.rho[j] * x.rho[j]);
+      const Vec3 step = V_inv[j] * rhs;
+      next->rho[j] = std::max(x.rho[j] + B.dot(step) / B.squaredNorm(), kMinInverseDepth);
+      next->P[j] = points_[j].ray_origin + points_[j].ray_direction / next->rho[j];
+    } else {
+      next->P[j] = x.P[j] + V_inv[j] * rhs;
+    }
+  }
+  return true;
+}
+
 BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& options, double focal_px) {
   BundleAdjustmentSummary summary;
   // Weights in normalised coordinates: residual (xy - xy_obs) * focal / sigma is in sigmas.
@@ -104,139 +215,36 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
   for (Camera& c : cameras_) c.block = c.fixed ? -1 : n_free++;
   const double k = options.huber_sigmas;
 
-  std::vector<SE3> T(cameras_.size());
-  std::vector<Vec3> P(points_.size());
-  std::vector<double> rho(points_.size(), 0);  // inverse depths of the points on rays
-  for (size_t i = 0; i < cameras_.size(); ++i) T[i] = cameras_[i].T_camera_world;
-  for (size_t j = 0; j < points_.size(); ++j) P[j] = points_[j].p_world, rho[j] = points_[j].inverse_depth;
-  double current = cost(T, P, k);
+  Estimate x{std::vector<SE3>(cameras_.size()), std::vector<Vec3>(points_.size()),
+             std::vector<double>(points_.size(), 0)};
+  for (size_t i = 0; i < cameras_.size(); ++i) x.T[i] = cameras_[i].T_camera_world;
+  for (size_t j = 0; j < points_.size(); ++j) x.P[j] = points_[j].p_world, x.rho[j] = points_[j].inverse_depth;
+  double current = cost(x.T, x.P, k);
   summary.initial_cost = summary.final_cost = current;
 
-  const int nc = 6 * n_free;
-  std::vector<Mat6> U(n_free);
-  std::vector<Vec6> gc(n_free);
-  std::vector<Mat3> V(points_.size());
-  std::vector<Vec3> gp(points_.size());
-  std::vector<Mat63> W(observations_.size());  // camera-point coupling of each observation
-  std::vector<char> used(observations_.size());
+  NormalEquations eq;
+  eq.U.resize(n_free);
+  eq.gc.resize(n_free);
+  eq.V.resize(points_.size());
+  eq.gp.resize(points_.size());
+  eq.W.resize(observations_.size());
+  eq.used.resize(observations_.size());
+  Estimate next;
   double lambda = 1e-4;
   for (int it = 0; it < options.max_iterations; ++it) {
-    // Normal equations at the current estimate (Gauss-Newton with IRLS Huber weights).
-    for (auto& u : U) u.setZero();
-    for (auto& g : gc) g.setZero();
-    for (auto& v : V) v.setZero();
-    for (auto& g : gp) g.setZero();
-    summary.observations = 0;
-    for (size_t m = 0; m < observations_.size(); ++m) {
-      const Observation& o = observations_[m];
-      const Camera& cam = cameras_[o.camera];
-      const bool point_free = !points_[o.point].fixed;
-      used[m] = 0;
-      if (cam.fixed && !point_free) continue;
-      const Vec3 p = T[o.camera] * P[o.point];
-      if (p.z() <= kMinDepth) continue;
-      used[m] = 1;
-      ++summary.observations;
-      const double iz = 1.0 / p.z();
-      const Vec2 r = p.head<2>() * iz - o.xy;
-      const double w = o.weight * huberWeight(o.weight * r.squaredNorm(), k);
-      const Mat26 Jc = projectionPoseJacobian(p);
-      const Mat23 Jp = pinholeJacobian(p) * T[o.camera].R();
-      if (cam.block >= 0) {
-        U[cam.block] += w * Jc.transpose() * Jc;
-        gc[cam.block] += w * Jc.transpose() * r;
-      }
-      if (point_free) {
-        V[o.point] += w * Jp.transpose() * Jp;
-        gp[o.point] += w * Jp.transpose() * r;
-      }
-      if (cam.block >= 0 && point_free) W[m] = w * Jc.transpose() * Jp;
-    }
-    for (size_t j = 0; j < points_.size(); ++j) {
-      if (points_[j].fixed || points_[j].prior_weight <= 0) continue;
-      V[j].diagonal().array() += points_[j].prior_weight;
-      gp[j] += points_[j].prior_weight * (P[j] - points_[j].prior);
-    }
+    normalEquations(x, k, &eq);
+    summary.observations = eq.observations;
     summary.iterations = it + 1;
     bool accepted = false;
     for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
-      // Marquardt damping of the diagonals; the points are eliminated (Schur complement).
-      Eigen::MatrixXd S = Eigen::MatrixXd::Zero(nc, nc);
-      Eigen::VectorXd b = Eigen::VectorXd::Zero(nc);
-      for (int i = 0; i < n_free; ++i) {
-        Mat6 Ui = U[i];
-        Ui.diagonal() += lambda * U[i].diagonal().cwiseMax(1e-9);
-        S.block<6, 6>(6 * i, 6 * i) = Ui;
-        b.segment<6>(6 * i) = -gc[i];
-      }
-      std::vector<Mat3> V_inv(points_.size());
-      for (size_t j = 0; j < points_.size(); ++j) {
-        if (points_[j].fixed) continue;
-        if (points_[j].on_ray) {
-          // One parameter: dp/d(inverse depth) = -direction / rho^2; V_inv eliminates it alone.
-          const Vec3 B = -points_[j].ray_direction / (rho[j] * rho[j]);
-          const double v = B.dot(V[j] * B);
-          const double damped = v + lambda * std::max(v, 1e-9) + 1e-12;
-          V_inv[j] = B * B.transpose() / damped;
-        } else {
-          Mat3 Vj = V[j];
-          Vj.diagonal() += lambda * V[j].diagonal().cwiseMax(1e-9);
-          Vj.diagonal().array() += 1e-12;
-          V_inv[j] = Vj.inverse();
-        }
-        if (!V_inv[j].allFinite()) V_inv[j].setZero();
-        const std::vector<int>& obs = points_[j].observations;
-        for (size_t a = 0; a < obs.size(); ++a) {
-          if (!used[obs[a]]) continue;
-          const int ca = cameras_[observations_[obs[a]].camera].block;
-          if (ca < 0) continue;
-          const Mat63 WaVinv = W[obs[a]] * V_inv[j];
-          b.segment<6>(6 * ca) += WaVinv * gp[j];
-          for (size_t c = 0; c < obs.size(); ++c) {
-            if (!used[obs[c]]) continue;
-            const int cc = cameras_[observations_[obs[c]].camera].block;
-            if (cc < 0) continue;
-            S.block<6, 6>(6 * ca, 6 * cc) -= WaVinv * W[obs[c]].transpose();
-          }
-        }
-      }
-      Eigen::VectorXd dc = Eigen::VectorXd::Zero(nc);
-      if (nc > 0) {
-        Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
-        dc = ldlt.solve(b);
-      }
-      if (!dc.allFinite()) {
+      if (!dampedStep(eq, x, lambda, n_free, &next)) {
         lambda *= 10;
         continue;
       }
-      std::vector<SE3> T_new = T;
-      std::vector<Vec3> P_new = P;
-      std::vector<double> rho_new = rho;
-      for (size_t i = 0; i < cameras_.size(); ++i)
-        if (cameras_[i].block >= 0) T_new[i] = applyPoseDelta(T[i], dc.segment<6>(6 * cameras_[i].block));
-      for (size_t j = 0; j < points_.size(); ++j) {
-        if (points_[j].fixed) continue;
-        Vec3 rhs = -gp[j];
-        for (int m : points_[j].observations) {
-          const int cm = cameras_[observations_[m].camera].block;
-          if (used[m] && cm >= 0) rhs -= W[m].transpose() * dc.segment<6>(6 * cm);
-        }
-        if (points_[j].on_ray) {
-          // The step along B = dp/d(rho), taken in inverse depth.
-          const Vec3 B = -points_[j].ray_direction / (rho[j] * rho[j]);
-          const Vec3 step = V_inv[j] * rhs;
-          rho_new[j] = std::max(rho[j] + B.dot(step) / B.squaredNorm(), kMinInverseDepth);
-          P_new[j] = points_[j].ray_origin + points_[j].ray_direction / rho_new[j];
-        } else {
-          P_new[j] = P[j] + V_inv[j] * rhs;
-        }
-      }
-      const double candidate = cost(T_new, P_new, k);
+      const double candidate = cost(next.T, next.P, k);
       if (std::isfinite(candidate) && candidate < current) {
         const double decrease = current - candidate;
-        T.swap(T_new);
-        P.swap(P_new);
-        rho.swap(rho_new);
+        std::swap(x, next);
         current = candidate;
         lambda = std::max(lambda * 0.1, 1e-10);
         accepted = true;
@@ -248,8 +256,8 @@ BundleAdjustmentSummary BundleAdjustment::solve(const BundleAdjustmentOptions& o
     if (!accepted) break;
   }
   for (Observation& o : observations_) o.weight /= f2;
-  for (size_t i = 0; i < cameras_.size(); ++i) cameras_[i].T_camera_world = T[i];
-  for (size_t j = 0; j < points_.size(); ++j) points_[j].p_world = P[j], points_[j].inverse_depth = rho[j];
+  for (size_t i = 0; i < cameras_.size(); ++i) cameras_[i].T_camera_world = x.T[i];
+  for (size_t j = 0; j < points_.size(); ++j) points_[j].p_world = x.P[j], points_[j].inverse_depth = x.rho[j];
   summary.final_cost = current;
   return summary;
 }

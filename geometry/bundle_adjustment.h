@@ -83,7 +83,27 @@ class BundleAdjustment {
     Vec2 xy;
     double weight;  // 1 / sigma^2 in normalised units (focal_px^2 / sigma_px^2)
   };
+  // The Gauss-Newton normal equations (IRLS Huber weights) in blocks: U, gc per free camera, V, gp
+  // per free point, W per observation coupling a free camera and a free point.
+  struct NormalEquations {
+    std::vector<Mat6> U;
+    std::vector<Vec6> gc;
+    std::vector<Mat3> V;
+    std::vector<Vec3> gp;
+    std::vector<Eigen::Matrix<double, 6, 3>> W;
+    std::vector<char> used;  // per observation: in front of its camera, and something in it free
+    int observations = 0;
+  };
+  struct Estimate {
+    std::vector<SE3> T;       // T_camera_world per camera
+    std::vector<Vec3> P;      // p_world per point
+    std::vector<double> rho;  // the inverse depths of the points on rays
+  };
   double cost(const std::vector<SE3>& cameras, const std::vector<Vec3>& points, double huber) const;
+  void normalEquations(const Estimate& x, double huber, NormalEquations* eq) const;
+  // The Levenberg-Marquardt step damped by lambda, the points eliminated (Schur complement);
+  // false when the reduced camera system gives no finite step.
+  bool dampedStep(const NormalEquations& eq, const Estimate& x, double lambda, int n_free, Estimate* next) const;
 
   std::vector<Camera> cameras_;
   std::vector<Point> points_;
