@@ -86,6 +86,52 @@ TEST(AdaptiveMotionNoise, FindsTheTrueImpulsesFromTenTimesThemAndFollowsARise) {
   EXPECT_GT(sim.noise().sigma_alpha, 0.75);
 }
 
+// One step of the covariance-matching rule written out here (Mohamed and Schwarz eq. 30, as the
+// header states it): between two posteriors an interval dt apart, the per-axis impulse variance
+// is (|v_k - v_k-1|^2 + tr P_vv,k - tr P_vv,k-1) / 3, as a sigma^2 at the reference rate
+// (times reference_rate / dt), averaged into sigma_a^2 with weight 1 - exp(-dt / time_constant).
+// The velocity covariance shrinks between the two (the filter grew surer: the sample is smaller
+// than the correction alone) while the angular velocity's grows (larger). To 1e-12 relative (a
+// few roundings); the trace differences move sigma_a by 1 % and sigma_alpha by 1 %, so a sign
+// flipped on either is seen.
+TEST(AdaptiveMotionNoise, OneStepIsTheCovarianceMatchingRule) {
+  const MotionModelOptions o = adaptive();
+  AdaptiveMotionNoise noise(o);
+  const double dt = 0.1;
+  const Vec3 v0(0.2, 0.0, -0.1), w0(0.0, 0.3, 0.1), v1(0.3, 0.0, -0.1), w1(0.0, 0.5, 0.1);
+  Mat3 P_vv0, P_vv1, P_ww0, P_ww1;
+  P_vv0 << 1.2e-3, 2e-4, 0, 2e-4, 9e-4, -1e-4, 0, -1e-4, 9e-4;  // trace 3e-3
+  P_vv1 = P_vv0 / 3;                                             // trace 1e-3
+  P_ww0 = Mat3::Identity() * 1e-3 / 3;                           // trace 1e-3
+  P_ww1 = P_ww0 * 6;                                             // trace 6e-3
+  EkfState posterior0, posterior1;
+  Mat13 P = Mat13::Identity() * 1e-4;
+  P.block<3, 3>(EkfState::kV, EkfState::kV) = P_vv0;
+  P.block<3, 3>(EkfState::kW, EkfState::kW) = P_ww0;
+  posterior0.reset(SE3(), P);
+  posterior0.x().segment<3>(EkfState::kV) = v0;
+  posterior0.x().segment<3>(EkfState::kW) = w0;
+  P.block<3, 3>(EkfState::kV, EkfState::kV) = P_vv1;
+  P.block<3, 3>(EkfState::kW, EkfState::kW) = P_ww1;
+  posterior1.reset(SE3(), P);
+  posterior1.x().segment<3>(EkfState::kV) = v1;
+  posterior1.x().segment<3>(EkfState::kW) = w1;
+
+  EXPECT_EQ(noise.next(posterior0, dt).sigma_a, o.sigma_a);  // nothing to compare with yet
+  const MotionModelOptions& next = noise.next(posterior1, 0.05);  // the interval ended at posterior1 is dt
+
+  const double to_sigma2 = o.reference_rate / dt / 3;
+  const double a2 = ((v1 - v0).squaredNorm() + P_vv1.trace() - P_vv0.trace()) * to_sigma2;
+  const double alpha2 = ((w1 - w0).squaredNorm() + P_ww1.trace() - P_ww0.trace()) * to_sigma2;
+  const double weight = 1 - std::exp(-dt / o.adaptive.time_constant);
+  const double sigma_a2 = o.sigma_a * o.sigma_a + weight * (a2 - o.sigma_a * o.sigma_a);
+  const double sigma_alpha2 = o.sigma_alpha * o.sigma_alpha + weight * (alpha2 - o.sigma_alpha * o.sigma_alpha);
+  ASSERT_NEAR(a2, 0.8, 1e-12);      // between the floor and the set noise: no clamping
+  ASSERT_NEAR(alpha2, 4.5, 1e-12);
+  EXPECT_NEAR(next.sigma_a, std::sqrt(sigma_a2), 1e-12 * std::sqrt(sigma_a2));
+  EXPECT_NEAR(next.sigma_alpha, std::sqrt(sigma_alpha2), 1e-12 * std::sqrt(sigma_alpha2));
+}
+
 TEST(AdaptiveMotionNoise, StaysBetweenItsFloorAndTheSetNoise) {
   MotionModelOptions o = adaptive();
   o.adaptive.min_sigma_a = 0.5;

@@ -164,6 +164,35 @@ TEST(InverseDepth, UndefinedGeometryAddsNothingAndConvertsNothing) {
   EXPECT_EQ(linearityIndex(at_point, offset), std::numeric_limits<double>::infinity());
 }
 
+// Civera's eq. 15 written out here, L_d = 4 (sigma_rho / rho^2) / d1 |cos alpha|, for a camera
+// well off the feature's ray (the line of sight 60 degrees from m: |cos alpha| = 0.5, d1 = 2):
+// L_d = 0.04, to 1e-12 relative (a few roundings). Without the |cos alpha| it would be 0.08.
+TEST(InverseDepth, LinearityIndexIsCiveraEquation15FromASideView) {
+  const double theta = 0.2, phi = -0.1, rho = 0.5, sigma_rho = 0.01, d1 = 2.0;
+  const Vec3 x0(0.3, -0.2, -1.2);
+  const Vec3 m(std::cos(phi) * std::sin(theta), -std::sin(phi), std::cos(phi) * std::cos(theta));
+  const Vec3 p_world = x0 + m / rho;
+  // The camera at distance d1 from the point, its line of sight at 60 degrees to m.
+  const Vec3 across = m.cross(Vec3(0, 1, 0)).normalized();
+  const Vec3 sight = 0.5 * m + std::sqrt(0.75) * across;  // unit, from the camera to the point
+  const Vec3 r = p_world - d1 * sight;
+  EkfState state;
+  state.reset(SE3(Mat3::Identity(), r), Eigen::Matrix<double, 13, 13>::Identity() * 1e-4);
+  Vec6 y;
+  y << x0, theta, phi, rho;
+  Eigen::Matrix<double, 6, 6> P_y = Eigen::Matrix<double, 6, 6>::Identity() * 1e-4;
+  P_y(5, 5) = sigma_rho * sigma_rho;
+  const int offset = state.append(y, P_y, Eigen::MatrixXd::Zero(6, 13));
+
+  const Vec3 h = p_world - r;  // the line of sight, in the world frame
+  const double cos_alpha = m.dot(h) / h.norm();
+  ASSERT_NEAR(cos_alpha, 0.5, 1e-12);
+  ASSERT_NEAR(h.norm(), d1, 1e-12);
+  const double expected = 4 * (sigma_rho / (rho * rho)) / h.norm() * std::abs(cos_alpha);
+  EXPECT_NEAR(linearityIndex(state, offset), expected, 1e-12 * expected);
+  EXPECT_NEAR(expected, 0.04, 1e-12);
+}
+
 // The scale gauge: after the pseudo-measurement the mean inverse depth of the first frame's
 // features has the gauge's variance (from rho_sigma^2 / n), its ratios (differences) keep theirs,
 // the state does not move, and the result is the dense Kalman update with H = [.. 1/n ..].
