@@ -51,7 +51,9 @@ constexpr double kMaxCornerErrorOverMedian = 3.0;
 // sub-pixel window (under half a square wide), where an occluding edge would pull the refinement.
 constexpr double kSquareSampleOffset = 0.3;
 // A side of a partial board whose squares seem to go on beyond its outer squares (more than this
-// fraction of at least this many samples) is a board slipped by two squares.
+// fraction of at least this many samples) is a board slipped by two squares; so is one whose
+// corners stop short of its edge where the squares beyond them, in view, seem not to go on (this
+// fraction or less).
 constexpr double kMaxContinuingFraction = 0.8;
 constexpr int kMinEdgeSamples = 4;
 
@@ -74,8 +76,11 @@ double subsetSpacing(const ChessboardTarget& t, const BoardCorners& c) {
 }
 
 // The sub-pixel window's half side for corners `spacing` pixels apart: as core's
-// refineChessboardCorners (a window under refine_window_fraction of a square).
+// refineChessboardCorners (a window under refine_window_fraction of a square). Corners none of
+// which are next to each other (subsetSpacing's 1e30, which made an int was undefined) get the
+// smallest window.
 int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
+  if (!(spacing < 1e29)) return 1;
   return std::clamp(static_cast<int>((options.refine_window_fraction * spacing - 1) / 2), 1,
                     options.max_refine_half_window);
 }
@@ -311,17 +316,29 @@ bool BoardCornerTracker::endsAtItsEdges(const cv::Mat& grey, const CameraModel& 
                                         const BoardCorners& c) const {
   const auto means = squareMeans(grey, c);
   if (!means) return false;
-  // Beyond an edge corner the outer square ends one square out: the squares a board shifted by
-  // two squares would have there must not show (whatever does: the margin, the wall, something in
-  // front of the board, matches their alternating colours about half the time).
-  const auto looksBlack = [&](double v) { return std::abs(v - means->first) < std::abs(v - means->second); };
-  int samples[4] = {0, 0, 0, 0}, continuing[4] = {0, 0, 0, 0};
+  // Sides -x, +x, -y, +y: the kept corners' outermost grid line on each, and the board's edge.
   const Vec2 outwards[4] = {Vec2(-1, 0), Vec2(1, 0), Vec2(0, -1), Vec2(0, 1)};
+  const int edge[4] = {0, target_.cols - 1, 0, target_.rows - 1};
+  int outermost[4] = {target_.cols, -1, target_.rows, -1};
   for (int id : c.ids) {
     const Vec2 g = gridOf(target_, id);
-    const bool on_side[4] = {g.x() == 0, g.x() == target_.cols - 1, g.y() == 0, g.y() == target_.rows - 1};
+    const int x = static_cast<int>(g.x()), y = static_cast<int>(g.y());
+    outermost[0] = std::min(outermost[0], x), outermost[1] = std::max(outermost[1], x);
+    outermost[2] = std::min(outermost[2], y), outermost[3] = std::max(outermost[3], y);
+  }
+  // Sampled 1.5 squares beyond the outermost corners, on either side of each. Beyond an edge corner
+  // the outer square has ended there: the squares a board shifted by two squares would have there
+  // must not show (whatever does: the margin, the wall, something in front of the board, matches
+  // their alternating colours about half the time). Beyond corners short of the edge the board
+  // goes on there (a corner row or the outer squares): where in view, its squares must show, or the
+  // corners are numbered from the wrong end (a board slipped by two squares towards this side, its
+  // real edge beside them, its outer corners dropped on the margin).
+  const auto looksBlack = [&](double v) { return std::abs(v - means->first) < std::abs(v - means->second); };
+  int samples[4] = {0, 0, 0, 0}, continuing[4] = {0, 0, 0, 0};
+  for (int id : c.ids) {
+    const Vec2 g = gridOf(target_, id);
     for (int side = 0; side < 4; ++side) {
-      if (!on_side[side]) continue;
+      if ((side < 2 ? g.x() : g.y()) != outermost[side]) continue;
       const Vec2 along(outwards[side].y(), outwards[side].x());
       for (const double half : {-0.5, 0.5}) {
         const Vec2 centre = g + 1.5 * outwards[side] + half * along;
@@ -335,8 +352,11 @@ bool BoardCornerTracker::endsAtItsEdges(const cv::Mat& grey, const CameraModel& 
       }
     }
   }
-  for (int side = 0; side < 4; ++side)
-    if (samples[side] >= kMinEdgeSamples && continuing[side] > kMaxContinuingFraction * samples[side]) return false;
+  for (int side = 0; side < 4; ++side) {
+    if (samples[side] < kMinEdgeSamples) continue;
+    const bool goes_on = continuing[side] > kMaxContinuingFraction * samples[side];
+    if (goes_on != (outermost[side] != edge[side])) return false;
+  }
   return true;
 }
 
