@@ -602,7 +602,10 @@ std::vector<Vec2> CslamTracker::trackFeatures(const std::optional<SE3>& T_world_
 void CslamTracker::addToMap(const Frame& frame, const BoardView* board, std::optional<SE3>* T_world_camera,
                             FrameResult* result) {
   const bool keyframe = *T_world_camera && window_ && prepareKeyframe(frame, **T_world_camera, board);
-  features_.replenish(frame.grey);
+  // Combined: not on the board's corners, which the board measures; a feature there would measure
+  // them again in the motion, the joint pose and the window, each time as if independent. The other
+  // modes fuse nothing with the board, and their features on it carry its view while it leaves.
+  features_.replenish(frame.grey, board && mode_ == Mode::Combined ? board->uv : std::vector<cv::Point2f>());
   if (!*T_world_camera) return;
   const std::vector<Vec2> xy = featuresNormalised();
   PosedFrame posed{frame.index, **T_world_camera, {}};

@@ -97,7 +97,7 @@ void FeatureTracker::add(const std::vector<Feature>& found) {
   features_.insert(features_.end(), found.begin(), found.end());
 }
 
-int FeatureTracker::replenish(const cv::Mat& grey) {
+int FeatureTracker::replenish(const cv::Mat& grey, const std::vector<cv::Point2f>& avoid) {
   const int held = static_cast<int>(features_.size());
   if (held >= options_.min_features) return 0;
   // Only the empty regions: a disc around every existing feature is masked out.
@@ -106,6 +106,7 @@ int FeatureTracker::replenish(const cv::Mat& grey) {
   mask(cv::Rect(b, b, grey.cols - 2 * b, grey.rows - 2 * b)).setTo(255);
   const int radius = static_cast<int>(options_.min_distance_px);
   for (const auto& f : features_) cv::circle(mask, f.uv, radius, cv::Scalar(0), -1);
+  for (const cv::Point2f& p : avoid) cv::circle(mask, p, radius, cv::Scalar(0), -1);
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(grey, corners, options_.max_features - held, options_.quality_level,
                           options_.min_distance_px, mask, options_.block_size);

@@ -51,9 +51,10 @@ class FeatureTracker {
   // Adds features the caller found again (e.g. map points matched where the camera pose projects
   // them), with their old ids.
   void add(const std::vector<Feature>& found);
-  // Detects new features away from the existing ones when fewer than min_features are held.
-  // Returns the number added.
-  int replenish(const cv::Mat& grey);
+  // Detects new features away from the existing ones, and from the points `avoid` (what is
+  // measured otherwise, e.g. a board's corners), when fewer than min_features are held. Returns
+  // the number added.
+  int replenish(const cv::Mat& grey, const std::vector<cv::Point2f>& avoid = {});
   void clear() { features_.clear(); }
 
   const std::vector<Feature>& features() const { return features_; }

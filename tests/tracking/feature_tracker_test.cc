@@ -182,5 +182,41 @@ TEST(FeatureTracker, ForwardBackwardCheckRejectsACorruptedPatch) {
   EXPECT_TRUE(unchecked.after.count(victim.id)) << "Lucas-Kanade itself failed on the corrupted patch";
 }
 
+// New features keep min_distance_px from the points given to avoid (what is measured otherwise:
+// cslam's board corners) as from the features held, and start elsewhere as before: on the same
+// texture, the features found without them that lie farther from every avoided point are found
+// again, at the same pixels, and none is found nearer.
+TEST(FeatureTracker, NewFeaturesAvoidTheGivenPoints) {
+  const BlobTexture texture(11, kImage);
+  const cv::Mat grey = texture.image(kImage);
+  FeatureTrackerOptions options;
+  options.max_features = 60;
+  FeatureTracker plain(options);
+  plain.replenish(grey);
+  // A third of the features found, as if they were a board's corners.
+  std::vector<cv::Point2f> avoid;
+  for (size_t k = 0; k < plain.features().size(); k += 3) avoid.push_back(plain.features()[k].uv);
+  ASSERT_GE(avoid.size(), 10u);
+  FeatureTracker avoiding(options);
+  EXPECT_GT(avoiding.replenish(grey, avoid), 0);
+  const auto nearest = [&](const cv::Point2f& p) {
+    double d = 1e9;
+    for (const cv::Point2f& a : avoid) d = std::min<double>(d, cv::norm(p - a));
+    return d;
+  };
+  std::set<std::pair<float, float>> found;
+  for (const Feature& f : avoiding.features()) {
+    EXPECT_GE(nearest(f.uv), options.min_distance_px - 1) << f.uv;  // the mask's disc is drawn in whole pixels
+    found.insert({f.uv.x, f.uv.y});
+  }
+  int far = 0;
+  for (const Feature& f : plain.features())
+    if (nearest(f.uv) > 2 * options.min_distance_px) {
+      ++far;
+      EXPECT_TRUE(found.count({f.uv.x, f.uv.y})) << f.uv;
+    }
+  EXPECT_GT(far, 5);
+}
+
 }  // namespace
 }  // namespace slamcmp
