@@ -15,9 +15,9 @@
 namespace slamcmp {
 namespace {
 
-// The plane z = 0 seen from 1.6 m (the feature-ray test's scene), and 0.15 m to the side.
-const SE3 kT_world_camera0(Mat3::Identity(), Vec3(0, 0, -1.6));
-const SE3 kT_world_camera1(Mat3::Identity(), Vec3(0.15, 0, -1.6));
+// The plane z = 0 seen from 1.6 m, and 0.15 m to the side (plane_render.h).
+using test::kT_world_camera0;
+using test::kT_world_camera1;
 
 // A block's values and covariance as the state held them: read at the offsets of one moment,
 // compared with those of another.
@@ -82,16 +82,6 @@ EkfSlamOptions planeOptions() {
   return options;
 }
 
-// The plane seen from kT_world_camera0 and kT_world_camera1, rendered once (a render takes 0.15 s).
-const cv::Mat& view0() {
-  static const cv::Mat grey = test::renderPlane(test::testCamera(), kT_world_camera0, 0.0);
-  return grey;
-}
-const cv::Mat& view1() {
-  static const cv::Mat grey = test::renderPlane(test::testCamera(), kT_world_camera1, 0.0);
-  return grey;
-}
-
 std::vector<int> offsetsOf(const std::vector<MapFeature>& features) {
   std::vector<int> offsets;
   for (const MapFeature& f : features) offsets.push_back(f.offset);
@@ -107,7 +97,7 @@ TEST(EkfSlam, PromotingARayKeepsTheLaterFeaturesBlocks) {
   const CameraModel camera = test::testCamera();
   EkfSlam slam(camera, planeOptions());  // with a board: new features are rays
   slam.reset(kT_world_camera0, Eigen::Matrix<double, 13, 13>::Identity() * 1e-8);
-  const cv::Mat& grey0 = view0();
+  const cv::Mat& grey0 = test::planeView0();
   slam.updateMap(grey0, 0);
   ASSERT_EQ(slam.features().size(), 1u);
   ASSERT_TRUE(slam.features()[0].is_ray);
@@ -120,7 +110,7 @@ TEST(EkfSlam, PromotingARayKeepsTheLaterFeaturesBlocks) {
 
   // The camera moved exactly (known motion); `visible` high enough that no feature is added.
   slam.state().x().head<3>() = kT_world_camera1.t();
-  const cv::Mat& grey1 = view1();
+  const cv::Mat& grey1 = test::planeView1();
   for (int frame = 0; frame < 5 && slam.features()[0].is_ray; ++frame) slam.updateMap(grey1, 1000);
   ASSERT_EQ(slam.features().size(), 3u);
   ASSERT_FALSE(slam.features()[0].is_ray) << "the ray did not converge in 5 frames";
@@ -142,7 +132,7 @@ TEST(EkfSlam, ConvertingAnInverseDepthFeatureKeepsTheLaterFeaturesBlocks) {
   const CameraModel camera = test::testCamera();
   EkfSlam slam(camera, planeOptions(), /*board_free=*/true);
   slam.reset(kT_world_camera0, cameraCovariance(1e-3, 1e-3, 1e-2, 1e-2));
-  const cv::Mat& grey0 = view0();
+  const cv::Mat& grey0 = test::planeView0();
   slam.updateMap(grey0, 0);
   ASSERT_EQ(slam.features().size(), 6u);
   for (const MapFeature& f : slam.features()) ASSERT_TRUE(f.inverse_depth);
@@ -176,7 +166,7 @@ TEST(EkfSlam, RelocateResetsTheCameraAndItsCorrelationsOnly) {
   const CameraModel camera = test::testCamera();
   EkfSlam slam(camera, planeOptions(), /*board_free=*/true);
   slam.reset(kT_world_camera0, cameraCovariance(1e-2, 1e-2, 0.1, 0.1));
-  slam.updateMap(view0(), 0);
+  slam.updateMap(test::planeView0(), 0);
   ASSERT_EQ(slam.features().size(), 6u);
   slam.predict(0.1);  // the features' correlations with r and q reach v and w
   const int kept = 13 + 4 * 6;

@@ -20,18 +20,8 @@ EkfState cameraState(const SE3& T_world_camera, double sigma) {
   return s;
 }
 
-// The plane z = 0 seen from 1.6 m (T0) and 0.15 m to the side (T1), rendered once for the tests
-// that use them (a render takes 0.15 s).
-const SE3 kT0 = SE3::fromRotvec(Vec3::Zero(), Vec3(0, 0, -1.6));
-const SE3 kT1 = SE3::fromRotvec(Vec3::Zero(), Vec3(0.15, 0.0, -1.6));
-const cv::Mat& view0() {
-  static const cv::Mat grey = test::renderPlane(test::testCamera(), kT0, 0.0);
-  return grey;
-}
-const cv::Mat& view1() {
-  static const cv::Mat grey = test::renderPlane(test::testCamera(), kT1, 0.0);
-  return grey;
-}
+using test::kT_world_camera0;
+using test::kT_world_camera1;
 
 TEST(FeatureRay, RayCovarianceFollowsTheCameraAndThePixelNoise) {
   const CameraModel camera = test::testCamera();
@@ -72,9 +62,9 @@ TEST(FeatureRay, PromotionGivesThePointAndItsCovariance) {
 
 TEST(FeatureRay, ParticlesConvergeOnTheTrueDepthAfterASidewaysMove) {
   const CameraModel camera = test::testCamera();
-  const SE3 T0 = kT0, T1 = kT1;  // the plane z = 0 is 1.6 m away
-  const cv::Mat& image0 = view0();
-  const cv::Mat& image1 = view1();
+  const SE3 T0 = kT_world_camera0, T1 = kT_world_camera1;  // the plane z = 0 is 1.6 m away
+  const cv::Mat& image0 = test::planeView0();
+  const cv::Mat& image1 = test::planeView1();
   EkfState s = cameraState(T0, 0.0);
   const Vec2 uv(330, 250);
   const int ray = appendRay(s, camera, uv, 1.0);
@@ -105,19 +95,19 @@ TEST(FeatureRay, ParticlesConvergeOnTheTrueDepthAfterASidewaysMove) {
 // wider ellipses, would weigh several times more.
 TEST(FeatureRay, ParticleWeightsAreThePriorTimesTheMatchsGaussianDensity) {
   const CameraModel camera = test::testCamera();
-  const SE3 T0 = kT0, T1 = kT1;
+  const SE3 T0 = kT_world_camera0, T1 = kT_world_camera1;
   EkfState s = cameraState(T0, 0.0);
   const Vec2 uv(330, 250);
   const int ray = appendRay(s, camera, uv, 1.0);
   PatchSource source;
   cv::Mat templ;
-  ASSERT_TRUE(makePatchSource(view0(), uv, 41, T0, &source));
+  ASSERT_TRUE(makePatchSource(test::planeView0(), uv, 41, T0, &source));
   ASSERT_TRUE(sourceTemplate(source, 11, &templ));
   // The camera moved to T1, known to 5 mm.
   const double sigma_r = 0.005;
   s.x().head<3>() = T1.t();
   s.P().topLeftCorner<3, 3>() = Mat3::Identity() * sigma_r * sigma_r;
-  const cv::Mat& image1 = view1();
+  const cv::Mat& image1 = test::planeView1();
 
   DepthParticles particles = uniformParticles(39, 0.5, 5.0);
   for (int i = 0; i < particles.size(); ++i) particles.weight[i] = (1 + i % 3) / 78.0;  // sums to 1

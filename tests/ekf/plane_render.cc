@@ -39,4 +39,17 @@ CameraModel testCamera() {
   return c;
 }
 
+const SE3 kT_world_camera0(Mat3::Identity(), Vec3(0, 0, -1.6));
+const SE3 kT_world_camera1(Mat3::Identity(), Vec3(0.15, 0, -1.6));
+
+const cv::Mat& planeView0() {
+  static const cv::Mat grey = renderPlane(testCamera(), kT_world_camera0, 0.0);
+  return grey;
+}
+
+const cv::Mat& planeView1() {
+  static const cv::Mat grey = renderPlane(testCamera(), kT_world_camera1, 0.0);
+  return grey;
+}
+
 }  // namespace slamcmp::test

@@ -17,4 +17,10 @@ cv::Mat renderPlane(const CameraModel& camera, const SE3& T_world_camera, double
 // A 640x480 camera with mild distortion.
 CameraModel testCamera();
 
+// The plane z = 0 seen by testCamera() from 1.6 m (T_world_camera0) and 0.15 m to the side of it
+// (T_world_camera1), rendered once for the tests that use them (a render takes 0.15 s).
+extern const SE3 kT_world_camera0, kT_world_camera1;
+const cv::Mat& planeView0();
+const cv::Mat& planeView1();
+
 }  // namespace slamcmp::test
