@@ -605,7 +605,8 @@ void CslamTracker::addToMap(const Frame& frame, const BoardView* board, std::opt
   // Combined: not on the board's corners, which the board measures; a feature there would measure
   // them again in the motion, the joint pose and the window, each time as if independent. The other
   // modes fuse nothing with the board, and their features on it carry its view while it leaves.
-  features_.replenish(frame.grey, board && mode_ == Mode::Combined ? board->uv : std::vector<cv::Point2f>());
+  static const std::vector<cv::Point2f> kNothing;
+  features_.replenish(frame.grey, board && mode_ == Mode::Combined ? board->uv : kNothing);
   if (!*T_world_camera) return;
   const std::vector<Vec2> xy = featuresNormalised();
   PosedFrame posed{frame.index, **T_world_camera, {}};

@@ -61,11 +61,14 @@ const cv::TermCriteria kCoarseLk(cv::TermCriteria::COUNT + cv::TermCriteria::EPS
 
 Vec2 gridOf(const ChessboardTarget& t, int id) { return Vec2(id % t.cols, id / t.cols); }
 
+// subsetSpacing's answer when no two corners are next to each other on the grid.
+constexpr double kUnknownSpacing = 1e30;
+
 // Smallest distance between two corners of `c` that are neighbours on the grid, pixels.
 double subsetSpacing(const ChessboardTarget& t, const BoardCorners& c) {
   std::vector<int> at(t.numCorners(), -1);
   for (size_t k = 0; k < c.ids.size(); ++k) at[c.ids[k]] = static_cast<int>(k);
-  double best = 1e30;
+  double best = kUnknownSpacing;
   for (size_t k = 0; k < c.ids.size(); ++k) {
     const int i = c.ids[k] % t.cols, j = c.ids[k] / t.cols;
     if (i + 1 < t.cols && at[c.ids[k] + 1] >= 0) best = std::min<double>(best, cv::norm(c.uv[at[c.ids[k] + 1]] - c.uv[k]));
@@ -77,10 +80,10 @@ double subsetSpacing(const ChessboardTarget& t, const BoardCorners& c) {
 
 // The sub-pixel window's half side for corners `spacing` pixels apart: as core's
 // refineChessboardCorners (a window under refine_window_fraction of a square). Corners none of
-// which are next to each other (subsetSpacing's 1e30, which made an int was undefined) get the
-// smallest window.
+// which are next to each other (kUnknownSpacing, which made an int was undefined) get the smallest
+// window.
 int refineHalfWindow(double spacing, const ChessboardDetectorOptions& options) {
-  if (!(spacing < 1e29)) return 1;
+  if (!(spacing < kUnknownSpacing)) return 1;
   return std::clamp(static_cast<int>((options.refine_window_fraction * spacing - 1) / 2), 1,
                     options.max_refine_half_window);
 }
@@ -138,7 +141,7 @@ int BoardCornerTracker::minCorners() const {
 
 double BoardCornerTracker::refineMarginPx(const BoardCorners& corners) const {
   const double spacing = subsetSpacing(target_, corners);
-  return spacing < 1e29 ? refineHalfWindow(spacing, options_.detector) + 2.0 : 2.0;
+  return spacing < kUnknownSpacing ? refineHalfWindow(spacing, options_.detector) + 2.0 : 2.0;
 }
 
 std::optional<std::pair<double, double>> BoardCornerTracker::squareMeans(const cv::Mat& grey,
@@ -401,7 +404,7 @@ std::optional<BoardCorners> BoardCornerTracker::predictedCorners(const cv::Mat& 
     all.uv.push_back(expected[id]);
   }
   const double spacing = subsetSpacing(target_, all);
-  if (spacing > 1e29) return std::nullopt;
+  if (!(spacing < kUnknownSpacing)) return std::nullopt;
   // Aligned within a radius that cannot reach the next corner.
   const int radius = std::max(3, static_cast<int>(std::min(options_.max_prediction_error_px, 0.45 * spacing)));
   const double margin = refineHalfWindow(spacing, options_.detector) + 2.0 + radius;
