@@ -89,6 +89,10 @@ void CslamTracker::finish() {
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }
 
+std::vector<std::pair<int, SE3>> CslamTracker::keyframePoses() const {
+  return window_ ? window_->keyframePoses() : std::vector<std::pair<int, SE3>>();
+}
+
 std::vector<MapPoint> CslamTracker::mapPoints() const {
   if (window_) return window_->points();
   return map_ ? map_->points() : std::vector<MapPoint>{};

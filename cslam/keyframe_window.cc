@@ -31,6 +31,10 @@ void KeyframeWindowOptions::check() const {
 
 namespace {
 
+// At most this many of a gap's newest keyframes are refined whole when the board returns
+// (refine_gap; the reduced camera system is dense, 6 unknowns a keyframe); older ones keep the
+// pose graph's correction.
+constexpr int kMaxGapKeyframesRefined = 64;
 constexpr int kMinPointsToReanchor = 8;  // map points the returning keyframe must see to measure the drift
 constexpr int kMinSharedToFix = 5;       // an older keyframe joins the refinement (fixed) when it sees this many
 // A feature with too little parallax is placed no nearer and no farther than these (metres).
@@ -126,8 +130,15 @@ KeyframeWindow::Added KeyframeWindow::add(Keyframe kf) {
     if (!track.valid && track.keyframes.size() >= 2) triangulate(id, track);
   }
   Added added;
-  added.reanchored = options_.reanchor && anchors(keyframes_.back()) && reanchorGap();
-  refine();
+  const std::optional<int> gap =
+      options_.reanchor && anchors(keyframes_.back()) ? reanchorGap() : std::optional<int>();
+  added.reanchored = gap.has_value();
+  const int newest = newestSerial();
+  const int window_start = std::max(first_serial_, newest - options_.window_keyframes + 1);
+  // refine_gap: a re-anchored gap refined whole, its ends held by the board (the pose graph
+  // spreads the drift evenly along the gap, which is not where the odometry made it).
+  refine(gap && options_.refine_gap ? std::min(window_start, std::max(*gap, newest - kMaxGapKeyframesRefined + 1))
+                                    : window_start);
   added.T_world_camera = keyframes_.back().T_world_camera;
   while (numKeyframes() > options_.max_keyframes) dropOldest();
   return added;
@@ -173,9 +184,8 @@ std::vector<int> KeyframeWindow::olderKeyframesToFix(const std::vector<int>& poi
   return serials;
 }
 
-void KeyframeWindow::refine() {
+void KeyframeWindow::refine(int first_free) {
   const int newest = newestSerial();
-  const int first_free = std::max(first_serial_, newest - options_.window_keyframes + 1);
   bool board = false;
   for (int s = first_free; s <= newest; ++s) board = board || keyframe(s).hasBoard();
   const std::vector<int> point_ids = pointsSeenFrom(first_free);
@@ -265,11 +275,11 @@ void KeyframeWindow::updateTypicalDepth() {
   if (depths.size() >= 5) typical_depth_ = std::clamp(median(depths), kMinWeakDepth, kMaxWeakDepth);
 }
 
-bool KeyframeWindow::reanchorGap() {
+std::optional<int> KeyframeWindow::reanchorGap() {
   const int newest = newestSerial();
   int last_board = newest - 1;
   while (last_board >= first_serial_ && !anchors(keyframe(last_board))) --last_board;
-  if (last_board < first_serial_ || last_board == newest - 1) return false;  // no gap, or its start is gone
+  if (last_board < first_serial_ || last_board == newest - 1) return std::nullopt;  // no gap, or its start is gone
   // Where the map alone (as it drifted over the gap) puts the returning keyframe: the points the
   // gap's keyframes saw (not those found again from before the gap).
   const Keyframe& back = keyframes_.back();
@@ -281,7 +291,7 @@ bool KeyframeWindow::reanchorGap() {
                                          [&](int s) { return s > last_board && s < newest; });
     if (track.valid && seen_in_gap) p_world.push_back(track.p_world), xy.push_back(obs);
   }
-  if (static_cast<int>(p_world.size()) < kMinPointsToReanchor) return false;
+  if (static_cast<int>(p_world.size()) < kMinPointsToReanchor) return std::nullopt;
   const SE3 T_world_camera_by_map =
       refinePose(back.T_world_camera.inverse(), p_world, xy, focal_px_, PoseRefinementOptions{10, 2.0})
           .T_camera_world.inverse();
@@ -319,7 +329,13 @@ bool KeyframeWindow::reanchorGap() {
       break;
     }
   }
-  return true;
+  return last_board + 1;
+}
+
+std::vector<std::pair<int, SE3>> KeyframeWindow::keyframePoses() const {
+  std::vector<std::pair<int, SE3>> out;
+  for (const Keyframe& kf : keyframes_) out.emplace_back(kf.frame_index, kf.T_world_camera);
+  return out;
 }
 
 std::optional<Vec3> KeyframeWindow::position(int id, bool barely_triangulated) const {

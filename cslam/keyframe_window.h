@@ -7,7 +7,8 @@
 // window); board corners a keyframe saw are points with known world positions. When the board
 // returns after a gap, the gap's keyframes are re-anchored first: a pose graph held by the last
 // board keyframe before the gap and the board pose after it spreads the drift along the gap, and
-// the map points seen from the gap move with the keyframes that saw them.
+// the map points seen from the gap move with the keyframes that saw them; with refine_gap the
+// whole gap is then refined by bundle adjustment, held at both ends by the board.
 #include <deque>
 #include <optional>
 #include <unordered_map>
@@ -34,6 +35,12 @@ struct KeyframeWindowOptions {
   double max_error_px = 2.5;           // observations farther from their point after refinement are dropped
   double board_point_sigma_m = 0.002;  // the board's last word on a map point, once it has left the window
   bool reanchor = true;                // correct the gap's keyframes and points when the board returns
+  // And refine the whole gap then, both its ends held by the board. On 51 full renders the map 10 %
+  // closer to the scene (median), the gap's keyframes about half as far off the truth, returns
+  // within 1.2 of the settled error 33 -> 34; but on 4 of 5 shortened wall_turn draws the return
+  // frame 0.3-0.6 -> 0.5-0.75 mm off, and the return frame costs 15-35 ms (docs/findings.md,
+  // session 45).
+  bool refine_gap = false;
   // A keyframe anchors the map (ends a gap, held at its board pose) when it sees this much of the
   // board. At 0.5, a strip of the board at the image's edge anchored wall_turn seed 3 1.6 mm off,
   // and the map with it; the whole board: the 30 frames after the return 1.95 -> 0.97 times the
@@ -63,6 +70,9 @@ struct KeyframeWindowOptions {
       "once the board has left the window (0: none), metres");
     v("reanchor", reanchor,
       "when the board returns after a gap, correct the gap's keyframes (pose graph) and the points they saw");
+    v("refine_gap", refine_gap,
+      "with reanchor: then refine the gap's keyframes and points by bundle adjustment, its ends held by the board "
+      "(a closer map and keyframes; the return frame costs a bundle adjustment of the gap)");
     v("anchor_board_fraction", anchor_board_fraction,
       "a keyframe anchors the map (ends a gap) when it sees at least this fraction of the board's corners: a strip "
       "of the board leaves its pose loose");
@@ -106,6 +116,8 @@ class KeyframeWindow {
   int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
   // A view of this many board corners is enough of the board to anchor the map (end a gap).
   bool anchors(int board_corners) const;
+  // Every keyframe kept, oldest first, as refined so far: (frame index, T_world_camera).
+  std::vector<std::pair<int, SE3>> keyframePoses() const;
 
  private:
   struct Track {
@@ -121,9 +133,10 @@ class KeyframeWindow {
   const Keyframe& keyframe(int serial) const { return keyframes_[serial - first_serial_]; }
   int newestSerial() const { return first_serial_ + numKeyframes() - 1; }
   void triangulate(int id, Track& track) const;
-  // The window's keyframes and map points refined by bundle adjustment (the board's corners fixed
-  // where it is in the window; else older keyframes seeing its points fixed).
-  void refine();
+  // The keyframes from first_free to the newest and their map points refined by bundle adjustment
+  // (the board's corners fixed where it is among them; else older keyframes seeing their points
+  // fixed).
+  void refine(int first_free);
   // The placed map points that the keyframes from `first_free` to the newest see, sorted.
   std::vector<int> pointsSeenFrom(int first_free) const;
   // The keyframes before `first_free` that see most of `point_ids` (at least kMinSharedToFix), at
@@ -131,8 +144,9 @@ class KeyframeWindow {
   std::vector<int> olderKeyframesToFix(const std::vector<int>& point_ids, int first_free) const;
   // typical_depth_ from the newest keyframe's map points (the features not yet placed start there).
   void updateTypicalDepth();
-  // The board's return after keyframes without it: returns whether the gap was corrected.
-  bool reanchorGap();
+  // The board's return after keyframes without it: corrects the gap's keyframes and points by a
+  // pose graph and returns the gap's first keyframe, or nothing when it cannot.
+  std::optional<int> reanchorGap();
   void dropOldest();
   bool anchors(const Keyframe& keyframe) const { return anchors(static_cast<int>(keyframe.board_ids.size())); }
 
