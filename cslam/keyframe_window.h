@@ -35,9 +35,9 @@ struct KeyframeWindowOptions {
   double max_error_px = 2.5;           // observations farther from their point after refinement are dropped
   double board_point_sigma_m = 0.002;  // the board's last word on a map point, once it has left the window
   bool reanchor = true;                // correct the gap's keyframes and points when the board returns
-  // And refine the whole gap then, both its ends held by the board. On 51 full renders the map 10 %
+  // And refine the whole gap then, both its ends held by the board. On 52 full renders the map 10 %
   // closer to the scene (median), the gap's keyframes about half as far off the truth, returns
-  // within 1.2 of the settled error 33 -> 34; but on 4 of 5 shortened wall_turn draws the return
+  // within 1.2 of the settled error 33 -> 34 of 51; but on 4 of 5 shortened wall_turn draws the return
   // frame 0.3-0.6 -> 0.5-0.75 mm off, and the return frame costs 15-35 ms (docs/findings.md,
   // session 45).
   bool refine_gap = false;
