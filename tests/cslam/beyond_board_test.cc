@@ -119,7 +119,8 @@ std::vector<Gap> gaps(const std::vector<FrameRecord>& records) {
 }
 
 const Gap& longestGap(const std::vector<Gap>& g) {
-  return *std::max_element(g.begin(), g.end(), [](const Gap& a, const Gap& b) { return a.last - a.first < b.last - b.first; });
+  return *std::max_element(g.begin(), g.end(),
+                           [](const Gap& a, const Gap& b) { return a.last - a.first < b.last - b.first; });
 }
 
 // The board re-acquired in the frame it is wholly back, and the RMS error over the 30 frames from
