@@ -7,6 +7,7 @@ inline constexpr const char* kTrajectory = "trajectory.txt";  // TUM, the posed 
 inline constexpr const char* kFrames = "frames.csv";          // every frame: status, reason, timing
 inline constexpr const char* kSummary = "summary.json";
 inline constexpr const char* kMap = "map.ply";
+inline constexpr const char* kKeyframes = "keyframes.txt";  // TUM, a back-end's refined keyframes
 inline constexpr const char* kNees = "nees.csv";  // with ground truth and a covariance
 inline constexpr const char* kOverlay = "overlay.csv";  // with --overlay
 

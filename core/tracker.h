@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -83,6 +84,9 @@ class Tracker {
   virtual FrameResult track(const Frame& frame) = 0;
   // The map as it stands (world frame).
   virtual std::vector<MapPoint> mapPoints() const { return {}; }
+  // A back-end that keeps keyframes: each as refined so far, oldest first, (frame index,
+  // T_world_camera). They may have moved since their frame was posed (a map re-anchored).
+  virtual std::vector<std::pair<int, SE3>> keyframePoses() const { return {}; }
   // The options in force, recorded in summary.json.
   virtual nlohmann::json options() const { return nlohmann::json::object(); }
   // Called once after the last frame. Throws InputError (without a file name: the caller adds

@@ -107,9 +107,9 @@ class CslamTracker : public Tracker {
 
   // The camera in use (given, or self-calibrated); empty while calibrating.
   const std::optional<CameraModel>& camera() const { return camera_; }
-  // Combined mode's keyframes as refined so far, (frame index, T_world_camera): a gap's keyframes
-  // re-anchored once the board returned, where the frames' own poses were given as they came.
-  std::vector<std::pair<int, SE3>> keyframePoses() const;
+  // Combined mode's keyframes: a gap's re-anchored once the board returned, where the frames' own
+  // poses were given as they came.
+  std::vector<std::pair<int, SE3>> keyframePoses() const override;
 
  private:
   enum class Mode { Combined, Calibration, TwoView };

@@ -36,10 +36,10 @@ struct KeyframeWindowOptions {
   double board_point_sigma_m = 0.002;  // the board's last word on a map point, once it has left the window
   bool reanchor = true;                // correct the gap's keyframes and points when the board returns
   // And refine the whole gap then, both its ends held by the board. On 52 full renders the map 10 %
-  // closer to the scene (median), the gap's keyframes about half as far off the truth, returns
-  // within 1.2 of the settled error 33 -> 34 of 51; but on 4 of 5 shortened wall_turn draws the return
-  // frame 0.3-0.6 -> 0.5-0.75 mm off, and the return frame costs 15-35 ms (docs/findings.md,
-  // session 45).
+  // closer to the scene (median), the gap's keyframes 20 % closer to the truth (21 of 29), returns
+  // within 1.2 of the settled error 33 -> 34 of 51; but on 4 of 5 shortened wall_turn draws the
+  // return frame 0.3-0.6 -> 0.5-0.75 mm off, and the return frame costs 15-35 ms
+  // (docs/findings.md, session 45).
   bool refine_gap = false;
   // A keyframe anchors the map (ends a gap, held at its board pose) when it sees this much of the
   // board. At 0.5, a strip of the board at the image's edge anchored wall_turn seed 3 1.6 mm off,

@@ -140,7 +140,7 @@ nlohmann::json runSequence(const RunRequest& request) {
   // A run before into this folder: its outputs are not this run's, and one left beside this run's
   // (a summary.json beside a trajectory.txt cut short by a failure) would pass for a whole run.
   // Only these files, by name: the folder may hold anything else.
-  for (const char* stale : {run_files::kSummary, run_files::kMap, run_files::kNees}) {
+  for (const char* stale : {run_files::kSummary, run_files::kMap, run_files::kNees, run_files::kKeyframes}) {
     std::error_code ignored;
     std::filesystem::remove(std::filesystem::path(out_dir) / stale, ignored);
   }
@@ -275,6 +275,13 @@ nlohmann::json runSequence(const RunRequest& request) {
     }
   }
   writeMapPly(out_dir + "/" + run_files::kMap, tracker->mapPoints());
+  if (const auto keyframes = tracker->keyframePoses(); !keyframes.empty()) {
+    Trajectory keyframe_trajectory;
+    for (const auto& [index, T_world_camera] : keyframes)  // a keyframe is a frame this run read
+      if (index >= 0 && index < static_cast<int>(frame_timestamps.size()))
+        keyframe_trajectory.push_back({frame_timestamps[index], T_world_camera});
+    writeTumTrajectory(out_dir + "/" + run_files::kKeyframes, keyframe_trajectory);
+  }
   // The map as written scored, as the trajectory is (compare --collect scores the same file and
   // gets the same figures); a scale-free map through its trajectory's Sim(3), or not at all.
   if (scene && (!scale_free || T_gt_scale_free)) {

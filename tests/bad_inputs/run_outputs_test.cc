@@ -41,7 +41,8 @@ std::string renderTv1(const TempDir& tmp, int frames, const std::string& name = 
 }
 
 // A run that fails midway (an image of another size at frame 5) into the folder of a finished run:
-// the earlier run's summary.json and map.ply must not stay beside the new run's partial files.
+// the earlier run's summary.json, map.ply and keyframes.txt must not stay beside the new run's
+// partial files.
 TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
   TempDir tmp;
   const std::string seq = renderTv1(tmp, 10);
@@ -50,6 +51,7 @@ TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
   ASSERT_EQ(first.exit_code, 0) << first.err;
   ASSERT_TRUE(fs::exists(out + "/summary.json"));
   ASSERT_TRUE(fs::exists(out + "/map.ply"));
+  ASSERT_TRUE(fs::exists(out + "/keyframes.txt"));
   writeText(out + "/notes.txt", "the user's own file\n");
 
   ASSERT_TRUE(cv::imwrite(seq + "/rgb/000005.png", cv::Mat(60, 80, CV_8UC1, cv::Scalar(128))));
@@ -58,6 +60,7 @@ TEST(RunOutputs, AFailedRerunLeavesNoEarlierSummaryBehind) {
   EXPECT_NE(rerun.err.find("000005.png: image is 80x60"), std::string::npos) << rerun.err;
   EXPECT_FALSE(fs::exists(out + "/summary.json"));
   EXPECT_FALSE(fs::exists(out + "/map.ply"));
+  EXPECT_FALSE(fs::exists(out + "/keyframes.txt"));
   EXPECT_EQ(test::readLines(out + "/frames.csv").size(), 6u);  // the header and frames 0 to 4
   EXPECT_TRUE(fs::exists(out + "/notes.txt"));                  // only the run's own outputs go
 }

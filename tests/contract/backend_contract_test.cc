@@ -3,6 +3,7 @@
 // run that never saw what it needs is refused by finish(); its options round-trip through the
 // YAML a config file holds; and a short run through the command line writes valid files.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <ostream>
@@ -323,6 +324,21 @@ TEST_P(BackendRunContract, ShortRunWritesValidFiles) {
 
   const std::vector<MapPoint> map = readMapPly(out_dir + "/map.ply");
   for (const MapPoint& p : map) EXPECT_TRUE(p.p_world.allFinite()) << "point " << p.id;
+
+  // keyframes.txt, from a back-end that keeps keyframes (cslam's combined mode): posed frames
+  // only, in order, each a few millimetres at most from its frame's pose on tv1 (no gap there to
+  // re-anchor; the window's refinement moves them within the board's accuracy).
+  if (std::filesystem::exists(out_dir + "/keyframes.txt")) {
+    const Trajectory keyframes = readTrajectory(out_dir + "/keyframes.txt", TrajectoryFormat::Tum);
+    ASSERT_FALSE(keyframes.empty());
+    size_t k = 0;
+    for (const StampedPose& keyframe : keyframes) {
+      while (k < trajectory.size() && trajectory[k].timestamp < keyframe.timestamp - 1e-6) ++k;
+      ASSERT_LT(k, trajectory.size()) << "keyframe at " << keyframe.timestamp << " s: not a posed frame, or out of order";
+      EXPECT_NEAR(trajectory[k].timestamp, keyframe.timestamp, 2e-6);
+      EXPECT_LT((keyframe.T_world_camera.t() - trajectory[k].T_world_camera.t()).norm(), 0.005) << keyframe.timestamp;
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, BackendContract, ::testing::ValuesIn(everyBackendAndMode()), caseName);
