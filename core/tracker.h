@@ -4,7 +4,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -76,6 +75,12 @@ struct TrackerContext {
   bool want_overlay = false;  // fill FrameResult::overlay (run --overlay / --show)
 };
 
+// A keyframe as a back-end refined it: its frame and pose.
+struct KeyframePose {
+  int frame_index = 0;
+  SE3 T_world_camera;
+};
+
 class Tracker {
  public:
   virtual ~Tracker() = default;
@@ -84,9 +89,9 @@ class Tracker {
   virtual FrameResult track(const Frame& frame) = 0;
   // The map as it stands (world frame).
   virtual std::vector<MapPoint> mapPoints() const { return {}; }
-  // A back-end that keeps keyframes: each as refined so far, oldest first, (frame index,
-  // T_world_camera). They may have moved since their frame was posed (a map re-anchored).
-  virtual std::vector<std::pair<int, SE3>> keyframePoses() const { return {}; }
+  // A back-end that keeps keyframes: those it still holds, oldest first, as refined so far. They
+  // may have moved since their frame was posed (a map re-anchored).
+  virtual std::vector<KeyframePose> keyframePoses() const { return {}; }
   // The options in force, recorded in summary.json.
   virtual nlohmann::json options() const { return nlohmann::json::object(); }
   // Called once after the last frame. Throws InputError (without a file name: the caller adds

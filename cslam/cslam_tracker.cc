@@ -89,8 +89,8 @@ void CslamTracker::finish() {
     throw InputError("", "the board never appeared: it sets the world frame and the scale in every mode");
 }
 
-std::vector<std::pair<int, SE3>> CslamTracker::keyframePoses() const {
-  return window_ ? window_->keyframePoses() : std::vector<std::pair<int, SE3>>();
+std::vector<KeyframePose> CslamTracker::keyframePoses() const {
+  return window_ ? window_->keyframePoses() : std::vector<KeyframePose>{};
 }
 
 std::vector<MapPoint> CslamTracker::mapPoints() const {

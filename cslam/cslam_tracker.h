@@ -109,7 +109,7 @@ class CslamTracker : public Tracker {
   const std::optional<CameraModel>& camera() const { return camera_; }
   // Combined mode's keyframes: a gap's re-anchored once the board returned, where the frames' own
   // poses were given as they came.
-  std::vector<std::pair<int, SE3>> keyframePoses() const override;
+  std::vector<KeyframePose> keyframePoses() const override;
 
  private:
   enum class Mode { Combined, Calibration, TwoView };

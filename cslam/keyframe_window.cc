@@ -332,9 +332,9 @@ std::optional<int> KeyframeWindow::reanchorGap() {
   return last_board + 1;
 }
 
-std::vector<std::pair<int, SE3>> KeyframeWindow::keyframePoses() const {
-  std::vector<std::pair<int, SE3>> out;
-  for (const Keyframe& kf : keyframes_) out.emplace_back(kf.frame_index, kf.T_world_camera);
+std::vector<KeyframePose> KeyframeWindow::keyframePoses() const {
+  std::vector<KeyframePose> out;
+  for (const Keyframe& kf : keyframes_) out.push_back({kf.frame_index, kf.T_world_camera});
   return out;
 }
 

@@ -116,8 +116,8 @@ class KeyframeWindow {
   int numKeyframes() const { return static_cast<int>(keyframes_.size()); }
   // A view of this many board corners is enough of the board to anchor the map (end a gap).
   bool anchors(int board_corners) const;
-  // Every keyframe kept, oldest first, as refined so far: (frame index, T_world_camera).
-  std::vector<std::pair<int, SE3>> keyframePoses() const;
+  // The keyframes kept (the newest max_keyframes), oldest first, as refined so far.
+  std::vector<KeyframePose> keyframePoses() const;
 
  private:
   struct Track {
